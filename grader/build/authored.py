@@ -1,0 +1,154 @@
+"""Read an authored notebook (``notebooks/<assignment>/NN_stage.py``) and enforce its rules.
+
+Cell kinds come from the ``deformlab`` metadata on each ``# %%`` line
+(``notebooks/README.md``): text, provided code, solution, tests, short answer.
+"""
+
+from __future__ import annotations
+
+import ast
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import jupytext
+
+from grader.contract import CONTRACT_NAMES
+
+
+class AuthoringError(ValueError):
+    """An authored notebook breaks a rule of notebooks/README.md."""
+
+
+@dataclass
+class AuthoredCell:
+    kind: str  # "text" | "provided" | "solution" | "tests" | "answer"
+    source: str
+    function: str | None = None  # for solution and tests cells
+    answer_id: str | None = None
+    points: float = 0.0
+
+
+@dataclass
+class AuthoredNotebook:
+    path: Path
+    cells: list[AuthoredCell]
+    metadata: dict = field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        return self.path.stem
+
+    @property
+    def functions(self) -> list[str]:
+        """Contract functions with a solution cell, in notebook order."""
+        return [c.function for c in self.cells if c.kind == "solution"]
+
+
+def top_level_definitions(source: str) -> set[str]:
+    """Names a cell binds at top level (assignments, defs, classes, imports)."""
+    names: set[str] = set()
+    for node in ast.parse(source).body:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            names.update((a.asname or a.name.split(".")[0]) for a in node.names)
+        elif isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign, ast.For, ast.With)):
+            for sub in ast.walk(node):
+                if isinstance(sub, ast.Name) and isinstance(sub.ctx, ast.Store):
+                    names.add(sub.id)
+    return names
+
+
+def referenced_names(source: str) -> set[str]:
+    """Every name a cell reads anywhere in its code."""
+    return {n.id for n in ast.walk(ast.parse(source)) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+
+
+def _classify(cell, index: int, path: Path) -> AuthoredCell:
+    meta = cell.metadata.get("deformlab") or {}
+    where = f"{path.name}, cell {index + 1}"
+    if cell.cell_type == "markdown":
+        if "answer" in meta:
+            points = float(meta.get("points", 0))
+            if points <= 0:
+                raise AuthoringError(f"{where}: a short-answer cell needs positive points")
+            return AuthoredCell("answer", cell.source, answer_id=str(meta["answer"]), points=points)
+        return AuthoredCell("text", cell.source)
+    if "solution" in meta:
+        name = meta["solution"]
+        if name not in CONTRACT_NAMES:
+            raise AuthoringError(f"{where}: solution cell names {name!r}, which is not a contract function")
+        if cell.source.strip():
+            raise AuthoringError(
+                f"{where}: the solution cell for {name} must be empty: the build fills it from reference/"
+            )
+        return AuthoredCell("solution", "", function=name)
+    if "tests" in meta:
+        name = meta["tests"]
+        if name not in CONTRACT_NAMES:
+            raise AuthoringError(f"{where}: tests cell names {name!r}, which is not a contract function")
+        points = float(meta.get("points", 0))
+        if points <= 0:
+            raise AuthoringError(f"{where}: the tests cell for {name} needs positive points")
+        return AuthoredCell("tests", cell.source, function=name, points=points)
+    return AuthoredCell("provided", cell.source)
+
+
+def read_authored(path: str | Path) -> AuthoredNotebook:
+    """Parse an authored notebook and check the rules of ``notebooks/README.md``.
+
+    Parameters
+    ----------
+    path : path-like
+        A jupytext percent-format ``.py`` file.
+
+    Returns
+    -------
+    AuthoredNotebook
+
+    Raises
+    ------
+    AuthoringError
+        Naming the file, the cell and the broken rule.
+    """
+    path = Path(path)
+    nb = jupytext.read(path)
+    cells = [_classify(c, i, path) for i, c in enumerate(nb.cells)]
+    solved: set[str] = set()
+    tested: set[str] = set()
+    for i, cell in enumerate(cells):
+        where = f"{path.name}, cell {i + 1}"
+        if cell.kind in ("text", "answer", "solution"):
+            if cell.kind == "solution":
+                if cell.function in solved:
+                    raise AuthoringError(f"{where}: a second solution cell for {cell.function}")
+                solved.add(cell.function)
+            continue
+        try:
+            used = referenced_names(cell.source)
+            defined = top_level_definitions(cell.source)
+        except SyntaxError as exc:
+            raise AuthoringError(f"{where}: syntax error: {exc}") from None
+        early = sorted((used & CONTRACT_NAMES) - solved)
+        if early:
+            raise AuthoringError(f"{where}: uses {', '.join(early)} before its solution cell")
+        if cell.kind == "provided" and defined & CONTRACT_NAMES:
+            raise AuthoringError(
+                f"{where}: a provided cell defines the contract name(s) {sorted(defined & CONTRACT_NAMES)}"
+            )
+        if cell.kind == "tests":
+            if cell.function in tested:
+                raise AuthoringError(f"{where}: a second tests cell for {cell.function}")
+            if cell.function not in solved:
+                raise AuthoringError(f"{where}: tests for {cell.function} come before its solution cell")
+            public = sorted(n for n in defined if not n.startswith("_"))
+            if public:
+                raise AuthoringError(
+                    f"{where}: names defined in a tests cell must start with '_' "
+                    f"(tests cells are skipped when grading): {public}"
+                )
+            tested.add(cell.function)
+    untested = sorted(solved - tested)
+    if untested:
+        raise AuthoringError(f"{path.name}: no tests cell for {', '.join(untested)}")
+    return AuthoredNotebook(path=path, cells=cells, metadata=dict(nb.metadata))

@@ -1,0 +1,144 @@
+"""Turn an authored notebook into the nbgrader source (instructor) notebook.
+
+Solution cells are filled from ``reference/`` (``lift``); tests cells get their
+nbgrader grade metadata and a hidden section that runs the trusted checks of
+``grader/checks`` against the notebook's own functions, so an instructor running
+the source notebook sees the reference earn every point.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+import nbformat
+
+from grader.build.authored import AuthoredNotebook, AuthoringError, read_authored
+from grader.build.lift import lift
+
+BEGIN_HIDDEN = "### BEGIN HIDDEN TESTS"
+END_HIDDEN = "### END HIDDEN TESTS"
+#: Text that only instructor material contains; the release scan looks for it.
+HIDDEN_MARKERS = (BEGIN_HIDDEN, END_HIDDEN, "run_hidden_checks", "grader.checks")
+
+KERNELSPEC = {"display_name": "Python 3 (ipykernel)", "language": "python", "name": "python3"}
+
+
+def tests_grade_id(function: str) -> str:
+    return f"test_{function}"
+
+
+def solution_grade_id(function: str) -> str:
+    return f"solution_{function}"
+
+
+def answer_grade_id(answer_id: str) -> str:
+    return f"answer_{answer_id}"
+
+
+def _nbgrader(grade_id: str, *, grade: bool, solution: bool, locked: bool, points: float | None = None) -> dict:
+    meta = {"grade": grade, "grade_id": grade_id, "locked": locked, "schema_version": 3, "solution": solution}
+    if points is not None:
+        meta["points"] = points
+    return {"nbgrader": meta}
+
+
+def hidden_section(function: str) -> str:
+    return "\n".join(
+        [
+            BEGIN_HIDDEN,
+            "# Graded in the grading process on fresh hidden inputs (grader/checks); here the",
+            "# same checks run against this notebook's functions.",
+            "from grader.checks import run_hidden_checks as _run_hidden_checks",
+            f"_run_hidden_checks({function!r}, globals())",
+            END_HIDDEN,
+        ]
+    )
+
+
+def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
+    """Assemble the nbgrader source notebook of an authored notebook.
+
+    Raises
+    ------
+    AuthoringError
+        If a lifted reference function calls a contract function that has no
+        earlier solution cell in this notebook.
+    """
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = dict(KERNELSPEC)
+    nb.metadata["language_info"] = {"name": "python"}
+    nb.metadata["deformlab"] = {"notebook": authored.name}
+    solved: set[str] = set()
+    provided = 0
+    for cell in authored.cells:
+        if cell.kind == "text":
+            nb.cells.append(nbformat.v4.new_markdown_cell(cell.source))
+        elif cell.kind == "answer":
+            nb.cells.append(
+                nbformat.v4.new_markdown_cell(
+                    cell.source,
+                    metadata=_nbgrader(answer_grade_id(cell.answer_id), grade=True, solution=True, locked=False, points=cell.points),
+                )
+            )
+        elif cell.kind == "provided":
+            provided += 1
+            digest = hashlib.sha1(cell.source.encode()).hexdigest()[:8]
+            nb.cells.append(
+                nbformat.v4.new_code_cell(
+                    cell.source,
+                    metadata=_nbgrader(f"provided_{provided:02d}_{digest}", grade=False, solution=False, locked=True),
+                )
+            )
+        elif cell.kind == "solution":
+            lifted = lift(cell.function)
+            missing = sorted(lifted.calls - solved)
+            if missing:
+                raise AuthoringError(
+                    f"{authored.path.name}: reference {cell.function} calls {', '.join(missing)}, "
+                    "which need their own solution cells earlier in this notebook"
+                )
+            solved.add(cell.function)
+            nb.cells.append(
+                nbformat.v4.new_code_cell(
+                    lifted.source,
+                    metadata=_nbgrader(solution_grade_id(cell.function), grade=False, solution=True, locked=False),
+                )
+            )
+        elif cell.kind == "tests":
+            source = cell.source.rstrip() + "\n\n" + hidden_section(cell.function)
+            nb.cells.append(
+                nbformat.v4.new_code_cell(
+                    source,
+                    metadata=_nbgrader(tests_grade_id(cell.function), grade=True, solution=False, locked=True, points=cell.points),
+                )
+            )
+    for i, c in enumerate(nb.cells):  # ids stable across builds, so diffs of the output stay small
+        c["id"] = f"{authored.name}-{i:03d}"
+    return nb
+
+
+def authored_notebooks(notebooks_dir: Path, assignment: str) -> list[Path]:
+    paths = sorted((Path(notebooks_dir) / assignment).glob("[0-9][0-9]_*.py"))
+    if not paths:
+        raise AuthoringError(f"no authored notebooks (NN_stage.py) in {Path(notebooks_dir) / assignment}")
+    return paths
+
+
+def build_sources(notebooks_dir: Path, source_dir: Path, assignment: str) -> list[Path]:
+    """Write ``source_dir/<assignment>/NN_stage.ipynb`` for every authored notebook.
+
+    Returns
+    -------
+    list of Path
+        The notebooks written.
+    """
+    out_dir = Path(source_dir) / assignment
+    out_dir.mkdir(parents=True, exist_ok=True)
+    written = []
+    for path in authored_notebooks(notebooks_dir, assignment):
+        nb = build_source_notebook(read_authored(path))
+        target = out_dir / f"{path.stem}.ipynb"
+        nbformat.write(nb, target)
+        written.append(target)
+    return written

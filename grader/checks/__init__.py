@@ -1,0 +1,126 @@
+"""Trusted verifiers, one module per stage, one ``FunctionChecks`` per contract function.
+
+``all_checks()[name]`` gives the checks of contract function ``name``; ``evaluate``
+turns a student's collected outputs into verdicts and a score fraction.
+"""
+
+from __future__ import annotations
+
+import functools
+import traceback
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+import scipy.sparse as sp
+
+from grader.checks.base import Case, FunctionChecks, ShapeError, Verdict, run_steps
+from grader.contract import reference_function
+from grader.harness.outputs import CaseOutput
+
+
+@functools.cache
+def all_checks() -> dict[str, FunctionChecks]:
+    """Contract function name -> its checks, from every stage module."""
+    from grader.checks import arap, bbw, lbs, meshes, rotations, shape_matching
+
+    found: dict[str, FunctionChecks] = {}
+    for module in (meshes, shape_matching, rotations, arap, bbw, lbs):
+        for obj in vars(module).values():
+            if isinstance(obj, type) and issubclass(obj, FunctionChecks) and obj.function and obj.__module__ == module.__name__:
+                found[obj.function] = obj()
+    return found
+
+
+@dataclass
+class CaseResult:
+    label: str
+    verdicts: list[Verdict]
+    error: str | None = None
+    seconds: float | None = None
+
+    @property
+    def passed(self) -> bool:
+        return self.error is None and all(v.passed for v in self.verdicts)
+
+
+@dataclass
+class FunctionResult:
+    function: str
+    cases: list[CaseResult] = field(default_factory=list)
+    error: str | None = None  # a failure of the whole collection (kernel died, timeout, ...)
+
+    @property
+    def fraction(self) -> float:
+        if self.error is not None or not self.cases:
+            return 0.0
+        return sum(c.passed for c in self.cases) / len(self.cases)
+
+    def summary(self) -> str:
+        if self.error:
+            return self.error
+        failed = [c for c in self.cases if not c.passed]
+        if not failed:
+            return f"all {len(self.cases)} hidden cases passed"
+        first = failed[0]
+        why = first.error or next(f"{v.name}: {v.detail}" for v in first.verdicts if not v.passed)
+        return f"{len(failed)} of {len(self.cases)} hidden cases failed; first: {first.label}: {why}"
+
+
+def reference_outputs(cases: list[Case]) -> list[Any]:
+    """The reference's output on every case, computed in this (trusted) process."""
+    return [run_steps(case, reference_function) for case in cases]
+
+
+def evaluate(checks: FunctionChecks, cases: list[Case], outputs: list[CaseOutput], expected: list[Any]) -> FunctionResult:
+    """Verdicts for every case; a check that crashes on odd output fails that case, never the run."""
+    result = FunctionResult(checks.function)
+    for case, out, ref in zip(cases, outputs, expected):
+        if out.error is not None:
+            result.cases.append(CaseResult(case.label, [], error=out.error, seconds=out.seconds))
+            continue
+        try:
+            verdicts = checks.verify(case, out.value, ref)
+            result.cases.append(CaseResult(case.label, verdicts, seconds=out.seconds))
+        except ShapeError as exc:
+            result.cases.append(CaseResult(case.label, [Verdict("output shape", False, str(exc))], seconds=out.seconds))
+        except Exception as exc:  # noqa: BLE001 - unforeseen output the checks could not digest
+            result.cases.append(
+                CaseResult(case.label, [Verdict("readable output", False, f"{type(exc).__name__}: {exc}")], seconds=out.seconds)
+            )
+    return result
+
+
+def wire(value: Any) -> Any:
+    """What ``value`` looks like after the kernel → grader wire (see ``harness.kernel_side``)."""
+    if sp.issparse(value):
+        return sp.csr_matrix(value, dtype=float)
+    if isinstance(value, (tuple, list)) and not all(isinstance(v, (int, float)) for v in value):
+        return tuple(wire(v) for v in value)
+    return np.array(value)
+
+
+def run_hidden_checks(function: str, namespace: dict, seed: int = 0) -> FunctionResult:
+    """Run the hidden checks of ``function`` against the functions in ``namespace``.
+
+    Used by the instructor (source) notebooks; grading runs the same checks
+    out of the student's process instead.
+
+    Raises
+    ------
+    AssertionError
+        Listing the failed cases.
+    """
+    checks = all_checks()[function]
+    cases = checks.cases(np.random.default_rng(seed))
+    expected = reference_outputs(cases)
+    outputs = []
+    for case in cases:
+        try:
+            outputs.append(CaseOutput(wire(run_steps(case, lambda n: namespace[n])), None, None))
+        except Exception as exc:  # noqa: BLE001
+            outputs.append(CaseOutput(None, f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=2)}", None))
+    result = evaluate(checks, cases, outputs, expected)
+    if result.fraction < 1.0:
+        raise AssertionError(f"hidden checks of {function}: {result.summary()}")
+    return result

@@ -1,0 +1,159 @@
+"""What a check is: hidden cases for one contract function and the verdicts on its outputs.
+
+Verdicts are computed here, in the grading process, with trusted numpy, from
+the student's raw outputs (already plain arrays, ``grader.harness.outputs``)
+and the reference's outputs on the same inputs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+import scipy.sparse as sp
+
+from grader.harness.fixtures import Case, Ref, Step
+
+__all__ = [
+    "Case",
+    "Ref",
+    "Step",
+    "Verdict",
+    "FunctionChecks",
+    "ShapeError",
+    "as_array",
+    "as_int",
+    "as_float",
+    "as_matrix",
+    "as_pair",
+    "close",
+    "verdict",
+]
+
+
+@dataclass
+class Verdict:
+    """One named property of one case, e.g. ``det = +1``."""
+
+    name: str
+    passed: bool
+    detail: str = ""
+
+
+def verdict(name: str, passed: bool, detail: str = "") -> Verdict:
+    return Verdict(name, bool(passed), "" if passed else detail)
+
+
+class ShapeError(ValueError):
+    """The output's type or shape is not what the contract says."""
+
+
+def as_array(value: Any, shape: tuple | None = None, what: str = "output", dtype=np.float64) -> np.ndarray:
+    """Plain finite ``dtype`` array of the given shape (``None`` entries match any size).
+
+    Raises
+    ------
+    ShapeError
+        Naming the expected and found shape, or the first non-finite entry.
+    """
+    if sp.issparse(value):
+        value = value.toarray()
+    if isinstance(value, tuple):
+        raise ShapeError(f"{what} should be an array, got a tuple of {len(value)} items")
+    try:
+        a = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ShapeError(f"{what} is not numeric: {exc}") from None
+    if shape is not None:
+        if a.ndim != len(shape) or any(s is not None and s != t for s, t in zip(shape, a.shape)):
+            want = "(" + ", ".join("?" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+            raise ShapeError(f"{what} should have shape {want}, got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])
+        raise ShapeError(f"{what} has NaN or inf (first at index {bad})")
+    if dtype is not np.float64:
+        if not np.all(a == np.round(a)):
+            raise ShapeError(f"{what} should hold integers")
+        a = a.astype(dtype)
+    return a
+
+
+def as_int(value: Any, what: str = "output") -> int:
+    a = as_array(value, (), what)
+    if a != np.round(a):
+        raise ShapeError(f"{what} should be an integer, got {float(a)}")
+    return int(a)
+
+
+def as_float(value: Any, what: str = "output") -> float:
+    return float(as_array(value, (), what))
+
+
+def as_matrix(value: Any, shape: tuple, what: str = "output") -> np.ndarray:
+    """Dense float64 matrix from a dense or sparse output."""
+    return as_array(value, shape, what)
+
+
+def as_pair(value: Any, what: str = "output") -> tuple:
+    if not isinstance(value, tuple) or len(value) != 2:
+        raise ShapeError(f"{what} should be a pair (a tuple of 2), got {type(value).__name__}")
+    return value
+
+
+def close(a: np.ndarray, b: np.ndarray, tol: float, scale: float = 1.0) -> tuple[bool, str]:
+    """``max |a - b| <= tol * max(scale, 1)``; also reports where the worst entry is."""
+    err = np.abs(np.asarray(a, float) - np.asarray(b, float))
+    if err.size == 0:
+        return True, ""
+    worst = np.unravel_index(int(np.argmax(err)), err.shape)
+    ok = float(err[worst]) <= tol * max(scale, 1.0)
+    return ok, f"largest difference {float(err[worst]):.3g} at index {tuple(int(i) for i in worst)}"
+
+
+class FunctionChecks:
+    """Hidden cases and verdicts for one contract function.
+
+    Subclasses set ``function`` and implement ``cases`` and ``verify``.
+
+    Attributes
+    ----------
+    function : str
+        The contract function checked.
+    needs : tuple of str
+        Other contract functions the cases call (e.g. ``arap_precompute``).
+    description : str
+        One line shown in feedback and in the notebook's hidden section.
+    """
+
+    function: str = ""
+    needs: tuple[str, ...] = ()
+    description: str = ""
+
+    def cases(self, rng: np.random.Generator) -> list[Case]:
+        raise NotImplementedError
+
+    def verify(self, case: Case, got: Any, expected: Any) -> list[Verdict]:
+        """Verdicts for one case; may raise ``ShapeError`` (one failed verdict)."""
+        raise NotImplementedError
+
+
+def run_steps(case: Case, resolve: Callable[[str], Callable]) -> Any:
+    """Run a case's steps with functions from ``resolve`` (the reference, or a namespace)."""
+    results: list[Any] = []
+
+    def decode(v):
+        if isinstance(v, Ref):
+            return results[v.step]
+        if isinstance(v, np.ndarray):
+            return v.copy()
+        if isinstance(v, list):
+            return [decode(x) for x in v]
+        if isinstance(v, tuple):
+            return tuple(decode(x) for x in v)
+        return v
+
+    for step in case.steps:
+        fn = resolve(step.function)
+        results.append(fn(*[decode(a) for a in step.args], **{k: decode(v) for k, v in step.kwargs.items()}))
+    return results[-1]

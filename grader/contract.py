@@ -1,0 +1,58 @@
+"""The student contract (``shared/CONTRACT.md``) as data: which function belongs to which stage.
+
+The names and their stage are the interface shared by students, ``reference/`` and the
+grader; ``tests/grader/test_contract.py`` checks this table against CONTRACT.md.
+"""
+
+from __future__ import annotations
+
+ASSIGNMENT = "deformation"
+
+#: stage -> (reference module, contract functions in the order the notebook teaches them)
+STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
+    "00_meshes": ("meshes", ("edges", "euler_characteristic", "boundary_loop_count", "genus")),
+    "01_shape_matching": (
+        "shape_matching",
+        ("centroid", "covariance_matrix", "optimal_orthogonal", "orthogonal_align"),
+    ),
+    "02_sign_correction": ("sign_correction", ("optimal_rotation", "rigid_align")),
+    "03_arap": (
+        "arap",
+        (
+            "cotangent_weights",
+            "cotangent_laplacian",
+            "arap_covariances",
+            "arap_rotations",
+            "arap_energy",
+            "arap_precompute",
+            "arap_global_step",
+            "arap_solve",
+            "laplacian_editing",
+        ),
+    ),
+    "04_bbw": (
+        "bbw",
+        (
+            "biharmonic_matrix",
+            "handle_constraints",
+            "inverse_distance_weights",
+            "unconstrained_biharmonic_weights",
+            "bbw",
+        ),
+    ),
+    "05_lbs": ("lbs", ("lbs_matrix", "lbs")),
+}
+
+#: every contract function -> its reference module (``reference.<module>``)
+MODULE_OF: dict[str, str] = {name: module for module, names in STAGES.values() for name in names}
+
+CONTRACT_NAMES: frozenset[str] = frozenset(MODULE_OF)
+
+
+def reference_function(name: str):
+    """Return the reference implementation of contract function ``name``."""
+    import importlib
+
+    if name not in MODULE_OF:
+        raise ValueError(f"{name!r} is not a contract function")
+    return getattr(importlib.import_module(f"reference.{MODULE_OF[name]}"), name)
