@@ -61,7 +61,7 @@ def _encode(value: Any, arrays: dict[str, np.ndarray]) -> dict:
         return {"ref": value.step}
     if isinstance(value, np.ndarray):
         key = f"a{len(arrays)}"
-        arrays[key] = np.ascontiguousarray(value)
+        arrays[key] = np.array(value, order="C")  # not ascontiguousarray: it makes 0-d arrays 1-d
         return {"a": key}
     if isinstance(value, list):
         return {"list": [_encode(v, arrays) for v in value]}

@@ -52,7 +52,7 @@ def __deformlab_collect__(function, fixture_dir, out_dir):
             return {"kind": "invalid", "type": type(value).__name__, "error": repr(exc)[:300]}
         if arr.dtype == object:
             return {"kind": "invalid", "type": type(value).__name__, "error": "not a numeric array"}
-        saved[key] = _np.ascontiguousarray(arr)
+        saved[key] = _np.array(arr, order="C")  # not ascontiguousarray: it makes 0-d arrays 1-d
         return {"kind": "array"}
 
     for index, case in enumerate(manifest["cases"]):

@@ -1,0 +1,16 @@
+# nbgrader course root of the DeformLab `deformation` assignment.
+# `deformlab build` writes source/deformation/*.ipynb from ../notebooks and ../reference;
+# `deformlab release` runs generate_assignment into release/; `deformlab grade`
+# autogrades into autograded/ and this gradebook. formgrader works from this folder as is:
+#     cd assignments && jupyter lab   (then open the Formgrader)
+from pathlib import Path
+
+c = get_config()  # noqa: F821 - provided by nbgrader when it loads this file
+
+c.CourseDirectory.root = str(Path(__file__).resolve().parent)
+c.CourseDirectory.db_url = f"sqlite:///{Path(__file__).resolve().parent / 'gradebook.db'}"
+c.CourseDirectory.course_id = "deformlab"
+# Grading runs in DeformLab's sandbox (`deformlab grade`); these apply if a TA runs
+# `nbgrader autograde` directly instead.
+c.ExecutePreprocessor.timeout = 60
+c.ClearSolutions.code_stub = {"python": "# YOUR CODE HERE\nraise NotImplementedError()"}

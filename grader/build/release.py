@@ -1,0 +1,287 @@
+"""``deformlab release``: build, generate the student version, bundle it, and prove it is sound.
+
+Checks, each failing the release loudly:
+
+1. the source notebooks execute top to bottom (their hidden sections run the
+   trusted checks) and, graded by the real pipeline, the reference earns every point;
+2. no release file contains reference code, hidden tests or grader internals;
+3. the release notebooks execute with the stubs, where only cells that use a
+   contract function fail, every tests cell fails, and a blank submission scores 0;
+4. every autograded cell has points and the stable ``grade_id`` ``test_<function>``.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import time
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import nbformat
+
+from grader.build.authored import referenced_names
+from grader.build.lift import lift
+from grader.build.source_notebook import HIDDEN_MARKERS, build_sources
+from grader.contract import ASSIGNMENT, CONTRACT_NAMES
+from grader.paths import CoursePaths, course_paths
+
+STUDENT_REQUIREMENTS = """numpy>=1.26
+scipy>=1.11
+libigl>=2.6.3
+pyvista>=0.44
+matplotlib>=3.8
+jupyterlab>=4.0
+ipykernel>=6.29
+nbclient>=0.10
+nbformat>=5.9
+"""
+
+STUDENT_README = """# Deformation assignment
+
+Six notebooks, one per stage: `00_meshes` (warm-up), `01_shape_matching`,
+`02_sign_correction`, `03_arap`, `04_bbw`, `05_lbs`. In each, fill in one
+function at a time where it says `YOUR CODE HERE`, then run the tests cell below
+it: its messages say what is wrong.
+
+## Install (once)
+
+    python3 -m venv .venv
+    .venv/bin/pip install -r requirements.txt
+    .venv/bin/jupyter lab
+
+Pictures render off screen; on a machine without OpenGL they fall back to
+matplotlib with a one-line warning.
+
+## Check your work
+
+    .venv/bin/python check_notebook.py 03_arap.ipynb
+
+runs the notebook top to bottom and prints, per function, whether its public
+tests pass. Hidden tests on other inputs decide the grade, so passing the
+public tests is necessary, not sufficient.
+
+Keep `starter/` and `data/` next to the notebooks; do not rename the notebooks.
+"""
+
+
+class ReleaseError(RuntimeError):
+    """A release check failed."""
+
+
+@dataclass
+class ReleaseReport:
+    problems: list[str] = field(default_factory=list)
+    points: dict[str, float] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return not self.problems
+
+
+def generate_assignment(paths: CoursePaths, assignment: str, db_url: str | None = None) -> None:
+    """Run nbgrader's own ``generate_assignment`` (release notebooks + gradebook entries)."""
+    from nbgrader.apps import NbGraderAPI
+    from nbgrader.coursedir import CourseDirectory
+    from traitlets.config import Config
+
+    config = Config()
+    config.CourseDirectory.root = str(paths.course)
+    config.CourseDirectory.db_url = db_url or paths.gradebook_url
+    api = NbGraderAPI(coursedir=CourseDirectory(config=config), config=config)
+    result = api.generate_assignment(assignment, force=True, create=True)
+    if not result.get("success"):
+        raise ReleaseError(f"nbgrader generate_assignment failed:\n{result.get('error') or result.get('log')}")
+
+
+def _distinctive_lines(text: str) -> set[str]:
+    """Lines long and specific enough that finding one elsewhere means the code was copied."""
+    lines = set()
+    for line in text.splitlines():
+        s = line.strip()
+        if len(s) >= 30 and not s.startswith(("#", "import ", "from ", '"""', "raise ValueError", "Parameters", "Returns")):
+            lines.add(s)
+    return lines
+
+
+def scan_for_leaks(texts: dict[str, str]) -> list[str]:
+    """Problems for every release text that holds reference code, hidden tests or grader internals.
+
+    Parameters
+    ----------
+    texts : dict
+        Release file name -> its text.
+    """
+    bodies = {name: _distinctive_lines(lift(name).body) for name in sorted(CONTRACT_NAMES)}
+    forbidden = (*HIDDEN_MARKERS, "import reference", "from reference", "BEGIN SOLUTION", "END SOLUTION")
+    problems = []
+    for fname, text in texts.items():
+        for marker in forbidden:
+            if marker in text:
+                problems.append(f"{fname} contains {marker!r}")
+        stripped = {line.strip() for line in text.replace("\\n", "\n").splitlines()}
+        for name, lines in bodies.items():
+            leaked = sorted(lines & stripped)
+            if leaked:
+                problems.append(f"{fname} contains reference code of {name}: {leaked[0]!r}")
+    return problems
+
+
+def _execute(path: Path, env_extra: dict[str, str], timeout: float = 300) -> nbformat.NotebookNode:
+    """Execute a notebook in a fresh (unsandboxed: it is our own code) kernel; errors are kept as outputs."""
+    from nbclient import NotebookClient
+
+    nb = nbformat.read(path, as_version=4)
+    old = {k: os.environ.get(k) for k in env_extra}
+    os.environ.update(env_extra)
+    try:
+        NotebookClient(nb, timeout=timeout, allow_errors=True, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}}).execute()
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+    return nb
+
+
+def _errors(nb) -> dict[int, str]:
+    found = {}
+    for i, cell in enumerate(nb.cells):
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "error":
+                found[i] = f"{out.get('ename')}: {str(out.get('evalue'))[:300]}"
+    return found
+
+
+def check_source_execution(sources: list[Path], report: ReleaseReport, paths: CoursePaths) -> None:
+    env = {"DEFORMLAB_NO_PLOTS": "1", "DEFORMLAB_ROOT": str(paths.root)}
+    for path in sources:
+        started = time.monotonic()
+        errors = _errors(_execute(path, env))
+        report.timings[f"source {path.stem}"] = time.monotonic() - started
+        for i, why in errors.items():
+            report.problems.append(f"source {path.name}, cell {i + 1} fails with the reference: {why}")
+
+
+def check_release_execution(released: list[Path], report: ReleaseReport) -> None:
+    env = {"DEFORMLAB_NO_PLOTS": "1"}
+    for path in released:
+        started = time.monotonic()
+        nb = _execute(path, env)
+        report.timings[f"release {path.stem}"] = time.monotonic() - started
+        errors = _errors(nb)
+        for i, cell in enumerate(nb.cells):
+            if cell.cell_type != "code":
+                continue
+            meta = cell.metadata.get("nbgrader") or {}
+            uses_contract = bool(referenced_names(cell.source) & CONTRACT_NAMES) if not meta.get("solution") else False
+            if meta.get("grade") and i not in errors:
+                report.problems.append(f"release {path.name}: tests cell {meta.get('grade_id')} passes with the stubs (vacuous test)")
+            elif i in errors and not uses_contract and not meta.get("grade"):
+                report.problems.append(f"release {path.name}, cell {i + 1} fails although it uses no student function: {errors[i]}")
+
+
+def check_grades(sources: list[Path], submission_dir: Path, expect_full: bool, report: ReleaseReport, label: str, paths: CoursePaths) -> None:
+    """Grade ``submission_dir``'s notebooks with the real pipeline; full marks or zero expected."""
+    from grader.pipeline.run import GradeOptions, grade_class
+
+    with tempfile.TemporaryDirectory(prefix="dl-release-") as tmp:
+        submitted = Path(tmp) / "submitted"
+        target = submitted / label / ASSIGNMENT
+        target.mkdir(parents=True)
+        for src in sources:
+            shutil.copy(submission_dir / src.name, target / src.name)
+        started = time.monotonic()
+        results = grade_class(
+            submitted,
+            Path(tmp) / "out",
+            GradeOptions(db_url=f"sqlite:///{tmp}/gradebook.db", seed=None, progress=False),
+        )
+        report.timings[f"grade {label}"] = time.monotonic() - started
+    for r in results:
+        for t in r["tests"]:
+            if expect_full and t["score"] < t["points"]:
+                report.problems.append(f"the reference loses points on {r['notebook']}:{t['grade_id']}: {t['summary']}")
+            if not expect_full and t["score"] > 0:
+                report.problems.append(f"a blank submission earns {t['score']} on {r['notebook']}:{t['grade_id']}")
+
+
+def check_points(sources: list[Path], report: ReleaseReport) -> None:
+    for path in sources:
+        nb = nbformat.read(path, as_version=4)
+        total = 0.0
+        for cell in nb.cells:
+            meta = cell.metadata.get("nbgrader") or {}
+            if meta.get("grade"):
+                gid, points = meta.get("grade_id", ""), meta.get("points")
+                if not points or points <= 0:
+                    report.problems.append(f"{path.name}: graded cell {gid} has no points")
+                if cell.cell_type == "code" and not (gid.startswith("test_") and gid[5:] in CONTRACT_NAMES):
+                    report.problems.append(f"{path.name}: autograded cell has an unstable grade_id {gid!r}")
+                total += float(points or 0)
+        report.points[path.stem] = total
+
+
+def write_bundle(paths: CoursePaths, assignment: str) -> Path:
+    """``dist/<assignment>-student.zip``: release notebooks, starter/, data/, requirements, README, self-check."""
+    from grader import student_check
+
+    paths.dist.mkdir(exist_ok=True)
+    target = paths.dist / f"{assignment}-student.zip"
+    tmp = target.with_suffix(".zip.tmp")
+    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
+        root = f"{assignment}"
+        for nb in sorted((paths.release / assignment).glob("*.ipynb")):
+            z.write(nb, f"{root}/{nb.name}")
+        for folder in ("starter", "data"):
+            for f in sorted((paths.root / folder).rglob("*")):
+                if f.is_file() and "__pycache__" not in f.parts and f.suffix in (".py", ".npz", ".md"):
+                    z.write(f, f"{root}/{f.relative_to(paths.root)}")
+        z.writestr(f"{root}/requirements.txt", STUDENT_REQUIREMENTS)
+        z.writestr(f"{root}/README.md", STUDENT_README)
+        z.write(student_check.__file__, f"{root}/check_notebook.py")
+    tmp.replace(target)
+    return target
+
+
+def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePaths | None = None) -> ReleaseReport:
+    """Build and check the release; print a report. See the module docstring for the checks."""
+    paths = paths or course_paths()
+    report = ReleaseReport()
+    started = time.monotonic()
+    sources = build_sources(paths.notebooks, paths.source, assignment)
+    generate_assignment(paths, assignment)
+    released = sorted((paths.release / assignment).glob("*.ipynb"))
+    bundle = write_bundle(paths, assignment)
+
+    texts = {f"release/{p.name}": p.read_text() for p in released}
+    with zipfile.ZipFile(bundle) as z:
+        for name in z.namelist():
+            if name.endswith((".py", ".ipynb", ".md", ".txt")):
+                texts[f"{bundle.name}:{name}"] = z.read(name).decode("utf-8", "replace")
+    report.problems += scan_for_leaks(texts)
+    check_points(sources, report)
+    if execute:
+        check_source_execution(sources, report, paths)
+        check_grades(sources, paths.source / assignment, True, report, "reference", paths)
+        check_release_execution(released, report)
+        check_grades(sources, paths.release / assignment, False, report, "blank", paths)
+    report.timings["release total"] = time.monotonic() - started
+
+    for nb, pts in report.points.items():
+        print(f"  {nb:<22} {pts:5.1f} points")
+    print(f"  {'total':<22} {sum(report.points.values()):5.1f} points")
+    for what, secs in report.timings.items():
+        print(f"  {what:<28} {secs:6.1f} s")
+    print(f"student bundle: {bundle.relative_to(paths.root)}")
+    if report.problems:
+        print(f"RELEASE CHECKS FAILED ({len(report.problems)}):")
+        for p in report.problems:
+            print(f"  - {p}")
+    else:
+        print("release checks passed: nothing leaked, the reference earns every point, a blank submission earns none")
+    return report

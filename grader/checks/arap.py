@@ -1,0 +1,482 @@
+"""Checks of stage 03, ARAP local–global ("spokes and rims" cells).
+
+Quantities with a unique answer (cotangent weights, Laplacian, covariances,
+energies, global-step solutions) are compared with the reference's; the
+local step is judged like every rotation (orthonormal, ``det = +1``, optimal
+``tr(R_i S_i)``), never by ``R_i`` itself. Energies of the student's
+positions are recomputed here with the reference's ``arap_energy``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_pair, close, verdict
+from grader.checks.meshes import disjoint_union, relabel
+from grader.checks.rotations import rotation_verdicts
+from grader.checks.shape_matching import random_rotation, trace_verdict
+from grader.contract import reference_function as reference
+from starter import shapes
+
+#: Relative tolerance of quantities computed without a solve (weights, matrices, energies).
+DIRECT_RTOL = 1e-9
+#: Handles are copied, not solved for: ``|U[handles] - handle_positions|`` up to this times the coordinates' size.
+HANDLE_TOL = 1e-12
+#: A global step's solution against the reference's, relative to the bounding-box diagonal.
+SOLVE_RTOL = 1e-8
+#: ``arap_solve`` after several iterations (energies relative, positions relative to the bounding-box diagonal).
+ITERATE_RTOL = 1e-6
+
+
+def _jittered_grid(rng: np.random.Generator, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Unit-square grid with interior vertices moved by up to 0.35 cells: obtuse triangles, negative weights."""
+    V, F = shapes.grid_2d(n, n)
+    interior = np.all((V > 0.0) & (V < 1.0), axis=1)
+    V[interior] += rng.uniform(-0.35, 0.35, (int(interior.sum()), 2)) / n
+    return V, F
+
+
+def _turn(P: np.ndarray, R: np.ndarray, pivot: np.ndarray) -> np.ndarray:
+    return (P - pivot) @ R.T + pivot
+
+
+def _axis_rotation(axis: int, angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    i, j = [k for k in range(3) if k != axis]
+    R = np.eye(3)
+    R[[i, i, j, j], [i, j, i, j]] = [c, -s, s, c]
+    return R
+
+
+def deformation_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """Hidden ARAP problems by label: ``(V, F, handles, handle_positions)``, vertices in random order.
+
+    Covers 2D and 3D, closed and bounded meshes, thin and obtuse triangles,
+    a planar mesh in 3D, two connected components, large rotations of the
+    handles and handles in random order.
+    """
+    scenes = {}
+
+    def add(label, V, F, handles, move):
+        V, F = relabel(V, F, rng)
+        handles = rng.permutation(handles(V))
+        scenes[label] = (V, F, handles, move(V[handles]))
+
+    def ends(V):
+        return np.flatnonzero((V[:, 0] == V[:, 0].min()) | (V[:, 0] == V[:, 0].max()))
+
+    def random_vertices(k):
+        return lambda V: rng.choice(len(V), k, replace=False)
+
+    def drag(P):
+        return P + rng.normal(0.0, 0.3, P.shape)
+
+    def bend_right_end(angle):
+        def move(P):
+            right = P[:, 0] == P[:, 0].max()
+            pivot = P[right].mean(axis=0)
+            R = random_rotation(rng, 2, angle) if P.shape[1] == 2 else _axis_rotation(1, angle)
+            out = P.copy()
+            out[right] = _turn(P[right], R, pivot) + 0.5 * np.eye(P.shape[1])[-1]
+            return out
+
+        return move
+
+    def twist(P):
+        right = P[:, 0] == P[:, 0].max()
+        out = P.copy()
+        out[right] = _turn(P[right], _axis_rotation(0, rng.uniform(2.0, 2.8)), P[right].mean(axis=0))
+        return out
+
+    add("2D strip, right end turned by 90°", *shapes.grid_2d(10, 3, width=3.0, height=0.6), ends, bend_right_end(np.pi / 2))
+    add("2D disc with two holes, random handles dragged", *shapes.disc_with_holes(2, 0.04), random_vertices(4), drag)
+    add(
+        "2D strip of thin triangles (aspect 100:1), right end turned",
+        *shapes.grid_2d(10, 2, width=1.0, height=0.002),
+        ends,
+        bend_right_end(0.6),
+    )
+    add("2D jittered grid with obtuse triangles, random handles dragged", *_jittered_grid(rng, 7), random_vertices(5), drag)
+    add("3D bar bent by 90°", *shapes.bar(length=3.0, nx=9, ny=2, nz=2), ends, bend_right_end(np.pi / 2))
+    add("3D bar twisted by more than 110°", *shapes.bar(length=3.0, nx=8, ny=2, nz=2), ends, twist)
+    V, F = shapes.grid_2d(6, 4, width=1.5)
+    add(
+        "planar 3D mesh (z = 0), random handles lifted out of the plane",
+        np.c_[V, np.zeros(len(V))],
+        F,
+        random_vertices(4),
+        lambda P: P + rng.normal(0.0, 0.3, P.shape) * [1.0, 1.0, 2.0],
+    )
+    grid = shapes.grid_2d(5, 3)
+    add(
+        "two 2D components, handles on each",
+        *disjoint_union(grid, (grid[0] + [2.0, 0.0], grid[1])),
+        lambda V: np.concatenate([rng.choice(np.flatnonzero(V[:, 0] < 1.5), 2, replace=False), rng.choice(np.flatnonzero(V[:, 0] > 1.5), 2, replace=False)]),
+        drag,
+    )
+    return scenes
+
+
+def _cotangent_meshes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Meshes for the weight and Laplacian checks (no handles needed)."""
+    meshes = {label: (V, F) for label, (V, F, _, _) in deformation_scenes(rng).items()}
+    meshes["3D torus"] = relabel(*shapes.torus(n_major=10, n_minor=6), rng)
+    return meshes
+
+
+def _deformed(rng: np.random.Generator, V: np.ndarray, kind: str) -> np.ndarray:
+    """Deformed positions ``U`` of ``V``: a noisy rotation, a mirror image, or a collapse onto a line."""
+    d = V.shape[1]
+    if kind == "rotated":
+        return V @ random_rotation(rng, d).T + rng.normal(0.0, 0.05, V.shape) + rng.normal(size=d)
+    if kind == "mirrored":
+        return (V * np.r_[-1.0, np.ones(d - 1)]) @ random_rotation(rng, d).T + rng.normal(0.0, 0.02, V.shape)
+    if kind == "collapsed":
+        return np.outer(V @ rng.normal(size=d), rng.normal(size=d))
+    raise ValueError(f"unknown deformation {kind!r}")
+
+
+def _local_step_inputs(rng: np.random.Generator) -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """``(label, V, U, F, C)`` for the covariance, rotation and energy checks.
+
+    ``C`` is the true half-cotangent matrix of ``V`` (from libigl) in most
+    cases and arbitrary signed weights in one, so that an implementation
+    recomputing its own weights instead of using ``C`` fails.
+    """
+    import igl
+
+    scenes = deformation_scenes(rng)
+    picks = [
+        ("2D disc with two holes", "2D disc with two holes, random handles dragged", "rotated"),
+        ("2D jittered grid", "2D jittered grid with obtuse triangles, random handles dragged", "mirrored"),
+        ("3D bar", "3D bar bent by 90°", "rotated"),
+        ("3D bar", "3D bar twisted by more than 110°", "mirrored"),
+        ("planar 3D mesh (z = 0)", "planar 3D mesh (z = 0), random handles lifted out of the plane", "mirrored"),
+        ("2D strip", "2D strip, right end turned by 90°", "collapsed"),
+    ]
+    out = []
+    for name, scene, kind in picks:
+        V, F = scenes[scene][:2]
+        out.append((f"{name}, {kind} copy", V, _deformed(rng, V, kind), F, igl.cotmatrix_entries(V, F)))
+    V, F = scenes["two 2D components, handles on each"][:2]
+    out.append(("two 2D components, arbitrary signed weights C", V, _deformed(rng, V, "rotated"), F, rng.normal(size=F.shape)))
+    return out
+
+
+def _energy_scale(V: np.ndarray, U: np.ndarray, F: np.ndarray, C: np.ndarray) -> float:
+    """``3 Σ |C| (‖e‖² + ‖e'‖²)``: bounds the terms of the ARAP energy, for roundoff tolerances."""
+    edge = lambda X: X[F[:, [2, 0, 1]]] - X[F[:, [1, 2, 0]]]  # noqa: E731 - edge opposite each corner
+    return 3.0 * float(np.sum(np.abs(C) * (np.sum(edge(V) ** 2, -1) + np.sum(edge(U) ** 2, -1))))
+
+
+def _energy_verdict(name: str, found: float, best: float, scale: float, rtol: float, at_most: bool = False) -> Verdict:
+    """``found`` equals (or with ``at_most``, does not exceed) ``best`` within ``rtol`` plus roundoff of the terms."""
+    tol = rtol * abs(best) + 1e-12 * scale
+    ok = found <= best + tol if at_most else abs(found - best) <= tol
+    return verdict(name, ok, f"{found:.12g}, expected {'at most ' if at_most else ''}{best:.12g}")
+
+
+def _bbox_diagonal(V: np.ndarray) -> float:
+    return float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
+
+
+def _handle_verdict(U: np.ndarray, handles: np.ndarray, positions: np.ndarray) -> Verdict:
+    err = np.abs(U[handles] - positions).max(axis=1)
+    worst = int(np.argmax(err))
+    return verdict(
+        "handles met exactly",
+        err[worst] <= HANDLE_TOL * max(1.0, float(np.abs(positions).max())),
+        f"U[{handles[worst]}] is {U[handles[worst]].tolist()}, its handle position is {positions[worst].tolist()} "
+        f"(difference {err[worst]:.3g})",
+    )
+
+
+def _positions_verdict(name: str, U: np.ndarray, want: np.ndarray, V: np.ndarray, rtol: float) -> Verdict:
+    ok, where = close(U, want, rtol, scale=_bbox_diagonal(V))
+    return verdict(name, ok, f"{where} (vertex, coordinate)")
+
+
+class CotangentWeightsChecks(FunctionChecks):
+    function = "cotangent_weights"
+    description = "C[t, k] = ½ cot of the angle at corner k, in 2D and 3D, with thin and obtuse triangles"
+
+    def cases(self, rng):
+        return [Case.call(label, "cotangent_weights", V, F) for label, (V, F) in _cotangent_meshes(rng).items()]
+
+    def verify(self, case, got, expected):
+        F = case.args()[1]
+        C = as_array(got, F.shape, "C")
+        want = as_array(expected, F.shape, "the reference's C")
+        scale = float(np.abs(want).max())
+        ok, where = close(C, want, DIRECT_RTOL, scale)
+        hint = ""
+        if not ok:
+            if close(C, 2.0 * want, DIRECT_RTOL, scale)[0]:
+                hint = " (these are cot, the contract asks for ½ cot)"
+            elif any(close(C, np.roll(want, s, axis=1), DIRECT_RTOL, scale)[0] for s in (1, 2)):
+                hint = " (columns are shifted: C[t, k] belongs to the angle at corner k, opposite edge (F[t,k+1], F[t,k+2]))"
+        return [verdict("C matches ½ cot of each corner's angle", ok, f"{where} (triangle, corner){hint}")]
+
+
+class CotangentLaplacianChecks(FunctionChecks):
+    function = "cotangent_laplacian"
+    description = "sparse symmetric L with L_ij = Σ C over the edges (i, j) and zero row sums, equal to igl.cotmatrix"
+
+    def cases(self, rng):
+        meshes = list(_cotangent_meshes(rng).items())
+        return [Case.call(label, "cotangent_laplacian", V, F) for label, (V, F) in meshes]
+
+    def verify(self, case, got, expected):
+        n = len(case.args()[0])
+        L = as_array(got, (n, n), "L")
+        want = as_array(expected, (n, n), "the reference's L")
+        scale = float(np.abs(want).max())
+        ok, where = close(L, want, DIRECT_RTOL, scale)
+        hint = " (the signs are flipped: off-diagonal entries are +Σ C, the diagonal is minus their sum)" if (
+            not ok and close(L, -want, DIRECT_RTOL, scale)[0]
+        ) else ""
+        return [
+            verdict("a scipy.sparse matrix", hasattr(got, "tocsr"), f"returned a dense {type(got).__name__}; the contract asks for scipy.sparse"),
+            verdict("L matches", ok, f"{where}{hint}"),
+        ]
+
+
+class ArapCovariancesChecks(FunctionChecks):
+    function = "arap_covariances"
+    description = "S_i = Σ C e e'ᵀ over the triangles around each vertex, with the given C, in 2D and 3D"
+
+    def cases(self, rng):
+        return [Case.call(label, "arap_covariances", V, U, F, C) for label, V, U, F, C in _local_step_inputs(rng)]
+
+    def verify(self, case, got, expected):
+        V = case.args()[0]
+        n, d = V.shape
+        S = as_array(got, (n, d, d), "S")
+        want = as_array(expected, (n, d, d), "the reference's S")
+        scale = float(np.abs(want).max())
+        ok, where = close(S, want, DIRECT_RTOL, scale)
+        hint = " (each S_i is transposed: rest edges on the left, e e'ᵀ)" if (
+            not ok and close(S, np.swapaxes(want, 1, 2), DIRECT_RTOL, scale)[0]
+        ) else ""
+        return [verdict("S matches", ok, f"{where} (vertex, row, column){hint}")]
+
+
+class ArapRotationsChecks(FunctionChecks):
+    function = "arap_rotations"
+    needs = ("optimal_rotation",)
+    description = "each R_i a rotation maximizing tr(R_i S_i), including mirrored, planar and collapsed neighbourhoods"
+
+    def cases(self, rng):
+        return [Case.call(label, "arap_rotations", V, U, F, C) for label, V, U, F, C in _local_step_inputs(rng)]
+
+    def verify(self, case, got, expected):
+        V, U, F, C = case.args()
+        n, d = V.shape
+        R = as_array(got, (n, d, d), "R")
+        R_ref = as_array(expected, (n, d, d), "the reference's R")
+        S = np.asarray(reference("arap_covariances")(V, U, F, C))
+        best = np.einsum("kij,kji->k", R_ref, S)
+        return rotation_verdicts(R) + [trace_verdict(R, S, best, "optimal tr(R_i S_i) at every vertex")]
+
+
+class ArapEnergyChecks(FunctionChecks):
+    function = "arap_energy"
+    description = "Σ_i Σ_{t ∋ i} Σ_k C ‖e' − R_i e‖², with given rotations, zero for a rigid motion"
+
+    def cases(self, rng):
+        cases = []
+        for i, (label, V, U, F, C) in enumerate(_local_step_inputs(rng)):
+            d = V.shape[1]
+            R = np.stack([random_rotation(rng, d) for _ in V])
+            if i == 0:
+                # A rigid motion with its own rotation everywhere costs nothing.
+                Rg = random_rotation(rng, d)
+                U, R, label = V @ Rg.T + rng.normal(size=d), np.tile(Rg, (len(V), 1, 1)), label.split(",")[0] + ", rigid motion"
+            cases.append(Case.call(f"{label}, random rotations" if i else label, "arap_energy", V, U, F, C, R))
+        return cases
+
+    def verify(self, case, got, expected):
+        V, U, F, C, _ = case.args()
+        return [_energy_verdict("energy", as_float(got, "energy"), float(expected), _energy_scale(V, U, F, C), DIRECT_RTOL)]
+
+
+def _random_local_rotations(rng: np.random.Generator, V: np.ndarray, F: np.ndarray, P: np.ndarray, handles: np.ndarray) -> np.ndarray:
+    """Rotations of a realistic local step: the optimal rotations of ``V`` with its handles moved to ``P``."""
+    import igl
+
+    U = V.copy()
+    U[handles] = P
+    R = np.asarray(reference("arap_rotations")(V, U, F, igl.cotmatrix_entries(V, F)))
+    # Some cells get random rotations instead, so the target is not near any ARAP iterate.
+    mix = rng.uniform(size=len(V)) < 0.3
+    R[mix] = np.stack([random_rotation(rng, V.shape[1]) for _ in range(int(mix.sum()))]).reshape(-1, *R.shape[1:])
+    return R
+
+
+def _global_step_verdicts(U_got, U_ref, V, F, R, handles, positions) -> list[Verdict]:
+    """Handles, energy of ``U_got`` for ``R`` against the reference's minimum, and ``U_got`` against ``U_ref``."""
+    n, d = V.shape
+    U = as_array(U_got, (n, d), "U")
+    U_ref = as_array(U_ref, (n, d), "the reference's U")
+    C = np.asarray(reference("cotangent_weights")(V, F))
+    energy = reference("arap_energy")
+    return [
+        _handle_verdict(U, handles, positions),
+        _energy_verdict(
+            "minimal energy for the given rotations",
+            float(energy(V, U, F, C, R)),
+            float(energy(V, U_ref, F, C, R)),
+            _energy_scale(V, U_ref, F, C),
+            DIRECT_RTOL,
+            at_most=True,
+        ),
+        _positions_verdict("U is the unique minimizer", U, U_ref, V, SOLVE_RTOL),
+    ]
+
+
+class ArapPrecomputeChecks(FunctionChecks):
+    function = "arap_precompute"
+    needs = ("arap_global_step", "arap_solve")
+    description = "the precomputed data serves several global steps and solves in a row, handles in any order"
+
+    def cases(self, rng):
+        scenes = deformation_scenes(rng)
+        cases = []
+        for label in ("2D disc with two holes, random handles dragged", "3D bar bent by 90°", "two 2D components, handles on each"):
+            V, F, handles, P = scenes[label]
+            P2 = P + rng.normal(0.0, 0.2, P.shape)
+            R1, R2 = (_random_local_rotations(rng, V, F, X, handles) for X in (P, P2))
+            steps = [Step("arap_precompute", (V, F, handles)), Step("arap_global_step", (Ref(0), R1, P)), Step("arap_global_step", (Ref(0), R2, P2))]
+            cases.append(Case(f"{label}: two global steps with one precomputation", steps, {"R": R2, "P": P2}))
+        V, F, handles, P = scenes["2D strip, right end turned by 90°"]
+        R = _random_local_rotations(rng, V, F, P, handles)
+        steps = [Step("arap_precompute", (V, F, handles)), Step("arap_solve", (Ref(0), P), {"iterations": 2}), Step("arap_global_step", (Ref(0), R, P))]
+        cases.append(Case("2D strip: a global step after a solve with the same precomputation", steps, {"R": R, "P": P}))
+        return cases
+
+    def verify(self, case, got, expected):
+        V, F, handles = case.args(0)
+        return _global_step_verdicts(got, expected, V, F, case.context["R"], handles, case.context["P"])
+
+
+class ArapGlobalStepChecks(FunctionChecks):
+    function = "arap_global_step"
+    needs = ("arap_precompute",)
+    description = "U minimizing the ARAP energy for given rotations with the handles met exactly, in 2D and 3D"
+
+    def cases(self, rng):
+        cases = []
+        for label, (V, F, handles, P) in deformation_scenes(rng).items():
+            R = _random_local_rotations(rng, V, F, P, handles)
+            cases.append(Case(label, [Step("arap_precompute", (V, F, handles)), Step("arap_global_step", (Ref(0), R, P))]))
+        return cases
+
+    def verify(self, case, got, expected):
+        V, F, handles = case.args(0)
+        _, R, P = case.args(1)
+        return _global_step_verdicts(got, expected, V, F, R, handles, P)
+
+
+def _start(V: np.ndarray, U0: np.ndarray | None, handles: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """The first iterate of ``arap_solve``: ``U0`` (``V`` if None) with the handle rows replaced."""
+    U = (V if U0 is None else U0).copy()
+    U[handles] = positions
+    return U
+
+
+class ArapSolveChecks(FunctionChecks):
+    function = "arap_solve"
+    needs = ("arap_precompute",)
+    description = "(U, energies): one energy per iteration, non-increasing, of U with the step's rotations; U as the reference's"
+
+    def cases(self, rng):
+        scenes = deformation_scenes(rng)
+        plans = [
+            ("2D strip, right end turned by 90°", None, 8),
+            ("2D disc with two holes, random handles dragged", "noisy", 3),
+            ("2D strip of thin triangles (aspect 100:1), right end turned", None, 4),
+            ("3D bar bent by 90°", None, 6),
+            ("3D bar twisted by more than 110°", "noisy", 1),
+            ("planar 3D mesh (z = 0), random handles lifted out of the plane", None, None),
+            ("two 2D components, handles on each", "rotated", 5),
+        ]
+        cases = []
+        for label, start, iterations in plans:
+            V, F, handles, P = scenes[label]
+            kwargs = {} if iterations is None else {"iterations": iterations}
+            if start == "noisy":
+                kwargs["U0"] = V + rng.normal(0.0, 0.05, V.shape)
+            elif start == "rotated":
+                kwargs["U0"] = V @ random_rotation(rng, V.shape[1]).T
+            detail = f"{iterations or 'default 10'} iteration(s) from {start + ' U0' if start else 'V'}"
+            cases.append(Case(f"{label}, {detail}", [Step("arap_precompute", (V, F, handles)), Step("arap_solve", (Ref(0), P), kwargs)]))
+        return cases
+
+    def verify(self, case, got, expected):
+        V, F, handles = case.args(0)
+        _, P = case.args(1)
+        kwargs = case.steps[1].kwargs
+        iterations = kwargs.get("iterations", 10)
+        n, d = V.shape
+        U_got, energies_got = as_pair(got, "(U, energies)")
+        U = as_array(U_got, (n, d), "U")
+        energies = as_array(energies_got, (None,), "energies")
+        U_ref, energies_ref = (as_array(x) for x in as_pair(expected, "the reference's (U, energies)"))
+        C = np.asarray(reference("cotangent_weights")(V, F))
+        energy = reference("arap_energy")
+        scale = _energy_scale(V, U_ref, F, C)
+        # The rotations of the last iteration are the local step on the previous iterate.
+        if iterations == 1:
+            previous = _start(V, kwargs.get("U0"), handles, P)
+        else:
+            data = reference("arap_precompute")(V, F, handles)
+            previous = np.asarray(reference("arap_solve")(data, P, U0=kwargs.get("U0"), iterations=iterations - 1)[0])
+        R_last = reference("arap_rotations")(V, previous, F, C)
+        fresh = float(energy(V, U, F, C, reference("arap_rotations")(V, U, F, C)))
+
+        verdicts = [
+            verdict("len(energies) == iterations", len(energies) == iterations, f"{len(energies)} energies for {iterations} iterations"),
+            _handle_verdict(U, handles, P),
+        ]
+        rises = np.flatnonzero(np.diff(energies) > DIRECT_RTOL * np.abs(energies[:-1]) + 1e-12 * scale)
+        verdicts.append(
+            verdict(
+                "energies non-increasing",
+                rises.size == 0,
+                rises.size and f"energies[{rises[0] + 1}] = {energies[rises[0] + 1]:.12g} > energies[{rises[0]}] = {energies[rises[0]]:.12g}",
+            )
+        )
+        if len(energies) == iterations:
+            ok, where = close(energies, energies_ref, ITERATE_RTOL, float(np.abs(energies_ref).max()))
+            verdicts.append(verdict("energies match the reference's from the same start", ok, f"{where}: got {energies.tolist()}, expected {energies_ref.tolist()}"))
+            verdicts.append(
+                _energy_verdict(
+                    "last energy is of U with the last iteration's rotations",
+                    float(energies[-1]),
+                    float(energy(V, U, F, C, R_last)),
+                    scale,
+                    ITERATE_RTOL,
+                )
+            )
+            verdicts.append(
+                verdict(
+                    "last energy not below the energy of U with fresh optimal rotations",
+                    energies[-1] >= fresh - ITERATE_RTOL * fresh - 1e-12 * scale,
+                    f"energies[-1] = {energies[-1]:.12g}, but no rotations give U an energy below {fresh:.12g}",
+                )
+            )
+        verdicts.append(_positions_verdict("U matches the reference's from the same start", U, U_ref, V, ITERATE_RTOL))
+        return verdicts
+
+
+class LaplacianEditingChecks(FunctionChecks):
+    function = "laplacian_editing"
+    description = "the global step with every R_i = I: handles met exactly, U as the reference's"
+
+    def cases(self, rng):
+        return [Case.call(label, "laplacian_editing", V, F, handles, P) for label, (V, F, handles, P) in deformation_scenes(rng).items()]
+
+    def verify(self, case, got, expected):
+        V, F, handles, P = case.args()
+        R = np.tile(np.eye(V.shape[1]), (len(V), 1, 1))
+        return _global_step_verdicts(got, expected, V, F, R, handles, P)

@@ -1,0 +1,185 @@
+"""Steps 2–3: execute a sanitized notebook in the sandbox and collect raw outputs.
+
+The kernel runs the planned cells (definitions), then, for each graded function,
+one collection cell that calls the student's function on the hidden fixtures and
+writes the raw outputs. A cell that times out or kills the kernel costs only
+itself: the kernel is killed and restarted, the definitions that ran are
+replayed, and execution goes on with the next cell.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import nbformat
+from nbclient import NotebookClient
+from nbclient.exceptions import CellTimeoutError, DeadKernelError
+
+from grader.harness import kernel_side
+from grader.sandbox import SandboxedKernelManager, SandboxSpec, peak_memory_bytes
+
+KERNEL_SIDE_SOURCE = Path(kernel_side.__file__).read_text()
+STARTUP_TIMEOUT = 120
+
+
+@dataclass
+class ExecuteOptions:
+    timeout: float = 60.0  # per cell
+    wall: float = 900.0  # per notebook
+    memory_bytes: int = 4 * 2**30
+    readonly: list[Path] = field(default_factory=list)  # course data/ and starter/
+
+
+@dataclass
+class Execution:
+    """What happened in the kernel.
+
+    Attributes
+    ----------
+    nb : NotebookNode
+        The notebook with the outputs of the cells that ran.
+    cell_failures : dict
+        Cell index -> reason, for cells that timed out, killed the kernel or raised.
+    collection_failures : dict
+        Function -> reason its outputs could not be collected (timeout, kernel died).
+    events : list of str
+        Kernel restarts and limits hit, in order.
+    peak_rss_bytes : int or None
+        Largest resident memory seen in the kernel.
+    """
+
+    nb: nbformat.NotebookNode
+    cell_failures: dict[int, str] = field(default_factory=dict)
+    collection_failures: dict[str, str] = field(default_factory=dict)
+    events: list[str] = field(default_factory=list)
+    peak_rss_bytes: int | None = None
+    seconds: float = 0.0
+
+
+def _error_of(cell) -> str | None:
+    for out in cell.get("outputs", []):
+        if out.get("output_type") == "error":
+            return f"{out.get('ename', 'Error')}: {str(out.get('evalue', ''))[:500]}"
+    return None
+
+
+def _collect_source(function: str, fixtures: Path, outputs: Path) -> str:
+    # The definition and the call share one cell, so no student code runs between them.
+    return f"{KERNEL_SIDE_SOURCE}\n__deformlab_collect__({function!r}, {str(fixtures)!r}, {str(outputs)!r})\n"
+
+
+def execute(
+    nb: nbformat.NotebookNode,
+    plan: list[int],
+    functions: list[str],
+    workdir: Path,
+    fixtures: Path,
+    outputs: Path,
+    options: ExecuteOptions,
+) -> Execution:
+    """Run ``plan`` then one collection per function, in a sandboxed kernel.
+
+    Parameters
+    ----------
+    nb : NotebookNode
+        Sanitized notebook (modified in place: outputs are stored).
+    plan : list of int
+        Code cells to run, in order.
+    functions : list of str
+        Contract functions whose fixtures are in ``fixtures``.
+    workdir : Path
+        The sandbox's private working directory (contains ``fixtures`` and ``outputs``).
+    """
+    result = Execution(nb=nb)
+    start = time.monotonic()
+    items: list[tuple[str, object]] = [("cell", i) for i in plan] + [("collect", f) for f in functions]
+    replay: list[int] = []  # definition cells that finished; re-run after a restart
+    spec = SandboxSpec(workdir=workdir, readonly=options.readonly, memory_bytes=int(options.memory_bytes))
+
+    barren_lives = 0  # kernel lives in a row that finished nothing
+    while items:
+        if time.monotonic() - start > options.wall or barren_lives >= 3:
+            reason = (
+                f"not run: the notebook's wall-clock limit of {options.wall:.0f} s was reached"
+                if barren_lives < 3
+                else "not run: the kernel could not be started or kept alive"
+            )
+            for kind, what in items:
+                (result.cell_failures if kind == "cell" else result.collection_failures)[what] = reason
+            result.events.append(reason)
+            break
+        km = SandboxedKernelManager(spec)
+        client = NotebookClient(
+            nb,
+            km=km,
+            timeout=options.timeout,
+            startup_timeout=STARTUP_TIMEOUT,
+            allow_errors=True,
+            interrupt_on_timeout=False,
+            record_timing=False,
+            kernel_name="python3",
+            resources={"metadata": {"path": str(workdir)}},
+        )
+        done_before = len(items)
+        try:
+            with client.setup_kernel():
+                if not _replay(client, nb, replay, result):
+                    continue
+                while items:
+                    kind, what = items[0]
+                    if kind == "cell":
+                        client.execute_cell(nb.cells[what], what)
+                        error = _error_of(nb.cells[what])
+                        if error:
+                            result.cell_failures[what] = error
+                        replay.append(what)
+                    else:
+                        cell = nbformat.v4.new_code_cell(_collect_source(what, fixtures, outputs))
+                        nb.cells.append(cell)  # nbclient stores results in place; the slot is removed below
+                        try:
+                            client.execute_cell(cell, len(nb.cells) - 1, store_history=False)
+                        finally:
+                            nb.cells.pop()
+                        error = _error_of(cell)
+                        if error:
+                            result.collection_failures[what] = f"collection failed: {error}"
+                    items.pop(0)
+                    peak = peak_memory_bytes(km)
+                    if peak is not None:
+                        result.peak_rss_bytes = max(result.peak_rss_bytes or 0, peak)
+        except CellTimeoutError:
+            _fail_first(result, items, f"timed out after {options.timeout:.0f} s; the kernel was killed")
+        except DeadKernelError:
+            _fail_first(result, items, "the kernel died (crash, os._exit, or the memory limit); it was restarted")
+        except RuntimeError as exc:  # the kernel failed to start, or vanished mid-message
+            result.events.append(f"kernel stopped: {exc}")
+        finally:
+            try:
+                km.shutdown_kernel(now=True)
+            except Exception:  # noqa: BLE001 - it is already gone
+                pass
+        barren_lives = barren_lives + 1 if len(items) == done_before else 0
+    result.seconds = time.monotonic() - start
+    return result
+
+
+def _replay(client: NotebookClient, nb, replay: list[int], result: Execution) -> bool:
+    """Re-run the definitions of earlier kernel lives; a cell that now fails is dropped."""
+    for index in list(replay):
+        try:
+            client.execute_cell(nb.cells[index], index, store_history=False)
+        except (CellTimeoutError, DeadKernelError):
+            replay.remove(index)
+            result.events.append(f"cell {index} failed when replayed after a restart; dropped")
+            return False
+    return True
+
+
+def _fail_first(result: Execution, items: list, reason: str) -> None:
+    if not items:
+        return
+    kind, what = items.pop(0)
+    (result.cell_failures if kind == "cell" else result.collection_failures)[what] = reason
+    result.events.append(f"{kind} {what}: {reason}")

@@ -1,0 +1,116 @@
+"""Step 5: record unit results: unit files, log, feedback, gradebook, grades.csv.
+
+Only the main process records, one unit at a time, so the gradebook never sees
+concurrent writes. Every file is written to a temporary name and renamed, so a
+crash mid-run leaves whole files only.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from pathlib import Path
+
+CSV_HEADER = ("student_id", "assignment", "notebook", "score", "max_score")
+
+
+def write_text_atomic(path: Path, text: str) -> None:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)
+
+
+def safe_name(student_id: str) -> str:
+    """A student id as a single path component (ids are folder names, so this is the identity in practice)."""
+    return student_id.replace("/", "_").replace("\x00", "_") or "_"
+
+
+def unit_path(out: Path, student_id: str, notebook: str) -> Path:
+    return Path(out) / "units" / safe_name(student_id) / f"{notebook}.json"
+
+
+def save_unit(out: Path, result: dict) -> None:
+    """Keep a unit's result (without the bulky parts) so a re-run can reuse it."""
+    slim = {k: v for k, v in result.items() if k not in ("feedback_html", "autograded_notebook")}
+    write_text_atomic(unit_path(out, result["student_id"], result["notebook"]), json.dumps(slim, indent=1))
+
+
+def load_unit(out: Path, student_id: str, notebook: str) -> dict | None:
+    try:
+        return json.loads(unit_path(out, student_id, notebook).read_text())
+    except (OSError, json.JSONDecodeError):
+        return None
+
+
+def log_record(result: dict) -> dict:
+    """The ``log.jsonl`` line of one unit."""
+    return {
+        "student_id": result["student_id"],
+        "notebook": result["notebook"],
+        "status": result["status"],
+        "score": result["score"],
+        "max_score": result["max_score"],
+        "duration_s": result.get("duration_s"),
+        "execution_s": result.get("execution_s"),
+        "peak_rss_bytes": result.get("peak_rss_bytes"),
+        "seed": result.get("seed"),
+        "reasons": result.get("reasons", []),
+        "events": result.get("events", []),
+        "notes": result.get("notes", []),
+        "reused": result.get("reused", False),
+    }
+
+
+def append_log(out: Path, result: dict) -> None:
+    with open(Path(out) / "log.jsonl", "a", encoding="utf-8") as fh:
+        fh.write(json.dumps(log_record(result)) + "\n")
+        fh.flush()
+
+
+def write_feedback(out: Path, result: dict) -> None:
+    if result.get("feedback_html"):
+        write_text_atomic(Path(out) / "feedback" / safe_name(result["student_id"]) / f"{result['notebook']}.html", result["feedback_html"])
+
+
+def write_autograded(course: Path, result: dict) -> None:
+    """The executed notebook where formgrader looks for it."""
+    if result.get("autograded_notebook"):
+        write_text_atomic(
+            Path(course) / "autograded" / safe_name(result["student_id"]) / result["assignment"] / f"{result['notebook']}.ipynb",
+            result["autograded_notebook"],
+        )
+
+
+def write_grades_csv(out: Path, results: list[dict]) -> Path:
+    """``grades.csv``: one row per student × notebook, sorted."""
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(CSV_HEADER)
+    for r in sorted(results, key=lambda r: (r["student_id"], r["notebook"])):
+        writer.writerow([r["student_id"], r["assignment"], r["notebook"], f"{r['score']:g}", f"{r['max_score']:g}"])
+    path = Path(out) / "grades.csv"
+    write_text_atomic(path, buf.getvalue())
+    return path
+
+
+def record_gradebook(gb, result: dict) -> None:
+    """Store a unit's autograded scores in an open nbgrader ``Gradebook``.
+
+    Manually graded cells (short answers) are flagged for formgrader.
+    """
+    sid, assignment, notebook = result["student_id"], result["assignment"], result["notebook"]
+    gb.update_or_create_student(sid)
+    gb.update_or_create_submission(assignment, sid)
+    scores = {t["grade_id"]: t["score"] for t in result["tests"]}
+    submitted = gb.find_submission_notebook(notebook, assignment, sid)
+    for grade in submitted.grades:
+        if grade.name in scores:
+            grade.auto_score = scores[grade.name]
+            grade.needs_manual_grade = False
+        elif grade.cell.cell_type == "markdown":
+            grade.auto_score = None
+            grade.needs_manual_grade = result["status"] not in ("missing", "invalid")
+    gb.db.commit()

@@ -1,0 +1,188 @@
+"""Step 1: read a submitted notebook and repair it against the source notebook.
+
+Tests and provided cells are read-only: whatever a student did to them (edit,
+delete, duplicate) they are restored from the source, as nbgrader's checksums
+and ``add_missing_cells`` would. Outputs are dropped (they are never trusted and
+may be huge), duplicate cell ids are repaired, and a plan of which cells to run
+when grading is made.
+"""
+
+from __future__ import annotations
+
+import ast
+import copy
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import nbformat
+
+from grader.contract import CONTRACT_NAMES
+
+#: A submission larger than this is not read at all.
+MAX_NOTEBOOK_BYTES = 64 * 2**20
+
+
+class SubmissionError(ValueError):
+    """The file cannot be graded as this notebook; the message is the row's reason."""
+
+
+@dataclass
+class Sanitized:
+    """A repaired submission.
+
+    Attributes
+    ----------
+    nb : NotebookNode
+        The notebook to execute: student code cells, source tests and provided cells.
+    plan : list of int
+        Indices of the code cells to execute when grading, in order.
+    notes : list of str
+        What was repaired, for the feedback (e.g. "restored deleted cell test_lbs").
+    """
+
+    nb: nbformat.NotebookNode
+    plan: list[int]
+    notes: list[str] = field(default_factory=list)
+
+
+def _grade_id(cell) -> str | None:
+    meta = cell.get("metadata", {}).get("nbgrader") or {}
+    gid = meta.get("grade_id")
+    return gid if isinstance(gid, str) else None
+
+
+def _is_locked(cell) -> bool:
+    meta = cell.get("metadata", {}).get("nbgrader") or {}
+    return bool(meta.get("locked")) and not meta.get("solution")
+
+
+def read_submission(path: Path) -> nbformat.NotebookNode:
+    """Read a submitted file as a v4 notebook.
+
+    Raises
+    ------
+    SubmissionError
+        If the file is unreadable, too large, or not a notebook.
+    """
+    path = Path(path)
+    try:
+        size = path.stat().st_size
+    except OSError as exc:
+        raise SubmissionError(f"cannot read the submission: {exc.strerror}") from None
+    if size > MAX_NOTEBOOK_BYTES:
+        raise SubmissionError(f"the notebook is {size / 2**20:.0f} MiB, over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
+    try:
+        raw = json.loads(path.read_bytes().decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise SubmissionError(f"not a Jupyter notebook (not valid JSON: {exc})") from None
+    if not isinstance(raw, dict) or not isinstance(raw.get("cells"), list):
+        raise SubmissionError("not a Jupyter notebook (no list of cells)")
+    try:
+        nb = nbformat.reads(json.dumps(raw), as_version=4)
+    except Exception as exc:  # noqa: BLE001 - nbformat raises many kinds
+        raise SubmissionError(f"not a readable Jupyter notebook: {exc}") from None
+    for cell in nb.cells:
+        if not isinstance(cell.get("source"), str) or cell.get("cell_type") not in ("code", "markdown", "raw"):
+            raise SubmissionError("not a readable Jupyter notebook (malformed cell)")
+    return nb
+
+
+def _calls_contract_at_top_level(source: str) -> bool:
+    """Whether a cell uses a contract function outside function bodies (a demo or an experiment)."""
+    try:
+        tree = ast.parse(source)
+    except SyntaxError:
+        return False
+    body_nodes: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            body_nodes.update(id(n) for n in ast.walk(node) if n is not node)
+    return any(
+        isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load) and n.id in CONTRACT_NAMES and id(n) not in body_nodes
+        for n in ast.walk(tree)
+    )
+
+
+def grading_plan(nb: nbformat.NotebookNode) -> list[int]:
+    """Code cells to execute when grading.
+
+    Solution cells always run. Tests cells never run (the trusted checks replace
+    them). Other cells run unless they use a contract function at top level:
+    those are pictures and experiments, whose results nobody grades.
+    """
+    plan = []
+    for i, cell in enumerate(nb.cells):
+        if cell.cell_type != "code":
+            continue
+        meta = cell.metadata.get("nbgrader") or {}
+        if meta.get("solution"):
+            plan.append(i)
+        elif meta.get("grade"):
+            continue
+        elif not _calls_contract_at_top_level(cell.source):
+            plan.append(i)
+    return plan
+
+
+def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> Sanitized:
+    """Repair ``student`` against ``source`` (the instructor notebook).
+
+    Raises
+    ------
+    SubmissionError
+        If the notebook shares no graded cell with the source (another assignment's notebook).
+    """
+    notes: list[str] = []
+    source_ids = [_grade_id(c) for c in source.cells]
+    locked_source = {_grade_id(c): c for c in source.cells if _is_locked(c) and _grade_id(c)}
+    if not ({g for g in source_ids if g} & {_grade_id(c) for c in student.cells}):
+        raise SubmissionError(
+            "this notebook shares no graded cell with the assignment's notebook: "
+            "is it another assignment's notebook, or were the cells' metadata removed?"
+        )
+
+    cells, seen = [], set()
+    for cell in student.cells:
+        gid = _grade_id(cell)
+        if gid and gid in seen:
+            if gid in locked_source:
+                notes.append(f"removed a duplicate of the read-only cell {gid}")
+                continue
+            # A copied solution cell keeps its code but is no longer a graded cell.
+            cell = copy.deepcopy(cell)
+            del cell.metadata["nbgrader"]
+            gid = None
+        if gid:
+            seen.add(gid)
+        if gid in locked_source:
+            original = locked_source[gid]
+            if cell.source != original.source or cell.cell_type != original.cell_type:
+                notes.append(f"restored the edited read-only cell {gid}")
+            cell = copy.deepcopy(original)
+        cells.append(copy.deepcopy(cell))
+
+    # Put back deleted read-only cells after the nearest earlier cell that is still there.
+    position = {_grade_id(c): i for i, c in enumerate(cells) if _grade_id(c)}
+    for k, gid in enumerate(source_ids):
+        if gid in locked_source and gid not in position:
+            before = next((position[g] for g in reversed(source_ids[:k]) if g in position), -1)
+            cells.insert(before + 1, copy.deepcopy(locked_source[gid]))
+            notes.append(f"restored the deleted cell {gid}")
+            position = {_grade_id(c): i for i, c in enumerate(cells) if _grade_id(c)}
+
+    nb = nbformat.v4.new_notebook(metadata=copy.deepcopy(source.metadata))
+    used_ids: set[str] = set()
+    for i, cell in enumerate(cells):
+        if cell.cell_type == "code":
+            cell.outputs = []
+            cell.execution_count = None
+        cid = cell.get("id")
+        if not isinstance(cid, str) or cid in used_ids or not cid:
+            cid = f"cell-{i:04d}"
+            while cid in used_ids:
+                cid += "x"
+        cell["id"] = cid
+        used_ids.add(cid)
+        nb.cells.append(cell)
+    return Sanitized(nb=nb, plan=grading_plan(nb), notes=notes)

@@ -1,0 +1,189 @@
+"""One work unit: one student × one notebook, from file to verdicts.
+
+``grade_unit`` is a pure function of its inputs (paths, seed, options) that
+returns a JSON-serializable dict, so it can run in a process pool here, or as a
+task of a distributed engine (Dask, Ray, Celery) with the same code: the engine
+ships a ``UnitSpec`` and receives the dict; recording stays in one place.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shutil
+import tempfile
+import time
+import traceback
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import nbformat
+
+from grader.harness.fixtures import write_fixtures
+from grader.harness.outputs import OutputError, read_outputs
+from grader.pipeline.execute import ExecuteOptions, execute
+from grader.pipeline.feedback import feedback_html
+from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
+from grader.pipeline.verify import graded_cells, hidden_cases, verify
+
+
+@dataclass
+class UnitSpec:
+    """Everything one work unit needs, all plain data.
+
+    Attributes
+    ----------
+    student_id : str
+        Exactly as the submission folder is named.
+    notebook : str
+        File stem of the assignment's notebook, e.g. ``03_arap``.
+    submission : str or None
+        Path of the submitted file; None if the student submitted none.
+    source : str
+        Path of the instructor (source) notebook.
+    seed : int
+        Seed of the run's hidden inputs.
+    """
+
+    student_id: str
+    notebook: str
+    submission: str | None
+    source: str
+    seed: int
+    assignment: str = "deformation"
+    timeout: float = 60.0
+    memory_bytes: int = 4 * 2**30
+    readonly: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+
+def sha256_of(path: str | Path) -> str | None:
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def _zero_result(spec: UnitSpec, source: nbformat.NotebookNode, status: str, reason: str, started: float) -> dict:
+    tests = [
+        {"grade_id": c.grade_id, "function": c.function, "points": c.points, "score": 0.0, "summary": reason, "cases": []}
+        for c in graded_cells(source)
+    ]
+    return _result(spec, status, tests, [reason], started)
+
+
+def _result(spec: UnitSpec, status: str, tests: list[dict], reasons: list[str], started: float, **extra) -> dict:
+    return {
+        "student_id": spec.student_id,
+        "assignment": spec.assignment,
+        "notebook": spec.notebook,
+        "status": status,
+        "score": round(sum(t["score"] for t in tests), 4),
+        "max_score": sum(t["points"] for t in tests),
+        "tests": tests,
+        "reasons": reasons,
+        "seed": spec.seed,
+        "submission_sha256": sha256_of(spec.submission) if spec.submission else None,
+        "duration_s": round(time.monotonic() - started, 3),
+        **extra,
+    }
+
+
+def grade_unit(spec: UnitSpec) -> dict:
+    """Grade one submitted notebook. Never raises for anything the student did.
+
+    Returns
+    -------
+    dict
+        ``student_id, assignment, notebook, status, score, max_score, tests,
+        reasons, seed, duration_s, peak_rss_bytes, events, feedback_html,
+        autograded_notebook`` (the executed notebook as JSON text, or None).
+    """
+    started = time.monotonic()
+    source = nbformat.read(spec.source, as_version=4)
+    if spec.submission is None:
+        return _zero_result(spec, source, "missing", f"no {spec.notebook}.ipynb was submitted", started) | {
+            "feedback_html": feedback_html(spec, [], [f"No {spec.notebook}.ipynb was submitted."]),
+            "autograded_notebook": None,
+        }
+    try:
+        sanitized = sanitize(read_submission(Path(spec.submission)), source)
+    except SubmissionError as exc:
+        return _zero_result(spec, source, "invalid", str(exc), started) | {
+            "feedback_html": feedback_html(spec, [], [str(exc)]),
+            "autograded_notebook": None,
+        }
+
+    cells = graded_cells(source)
+    workdir = Path(tempfile.mkdtemp(prefix="dl-"))
+    try:
+        fixtures, outputs = workdir / "fixtures", workdir / "outputs"
+        outputs.mkdir()
+        for cell in cells:
+            write_fixtures(cell.function, hidden_cases(cell.function, spec.seed)[0], fixtures)
+        nbformat.write(sanitized.nb, workdir / f"{spec.notebook}.ipynb")
+        run = execute(
+            sanitized.nb,
+            sanitized.plan,
+            [c.function for c in cells],
+            workdir,
+            fixtures,
+            outputs,
+            ExecuteOptions(timeout=spec.timeout, memory_bytes=spec.memory_bytes, readonly=[Path(p) for p in spec.readonly]),
+        )
+        tests, results = [], []
+        for cell in cells:
+            failure = run.collection_failures.get(cell.function)
+            collected = None
+            if failure is None:
+                try:
+                    n_cases = len(hidden_cases(cell.function, spec.seed)[0])
+                    collected = read_outputs(cell.function, outputs, n_cases)
+                except OutputError as exc:
+                    failure = str(exc)
+            result = verify(cell.function, spec.seed, collected, failure)
+            results.append((cell, result, collected))
+            tests.append(
+                {
+                    "grade_id": cell.grade_id,
+                    "function": cell.function,
+                    "points": cell.points,
+                    "score": round(cell.points * result.fraction, 4),
+                    "summary": result.summary(),
+                    "cases": [
+                        {
+                            "label": c.label,
+                            "passed": c.passed,
+                            "error": c.error,
+                            "failed": [f"{v.name}: {v.detail}" for v in c.verdicts if not v.passed],
+                        }
+                        for c in result.cases
+                    ],
+                }
+            )
+        reasons = [f"cell {i + 1}: {why}" for i, why in sorted(run.cell_failures.items())]
+        status = "graded" if not run.events else "graded-with-incidents"
+        return _result(
+            spec,
+            status,
+            tests,
+            reasons,
+            started,
+            notes=spec.notes + sanitized.notes,
+            events=run.events,
+            peak_rss_bytes=run.peak_rss_bytes,
+            execution_s=round(run.seconds, 3),
+            feedback_html=feedback_html(spec, results, spec.notes + sanitized.notes + reasons + run.events),
+            autograded_notebook=nbformat.writes(sanitized.nb),
+        )
+    except Exception as exc:  # noqa: BLE001 - the grader's own failure: this row says so, the run goes on
+        return _zero_result(spec, source, "grader-error", f"grader error: {type(exc).__name__}: {exc}", started) | {
+            "feedback_html": feedback_html(spec, [], ["The grader failed on this notebook; your TA has been told."]),
+            "autograded_notebook": None,
+            "traceback": traceback.format_exc(),
+        }
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
+
+
+def spec_dict(spec: UnitSpec) -> dict:
+    return asdict(spec)

@@ -1,0 +1,64 @@
+"""Step 4: hidden cases per graded function, and verdicts on the collected outputs.
+
+Cases depend only on the run's seed and the function, so every student of a run
+gets the same hidden inputs and the reference runs once per function per
+process.
+"""
+
+from __future__ import annotations
+
+import functools
+import zlib
+from dataclasses import dataclass
+from typing import Any
+
+import nbformat
+import numpy as np
+
+from grader.checks import FunctionResult, all_checks, evaluate, reference_outputs
+from grader.checks.base import Case
+from grader.harness.outputs import Collected, OutputError
+
+
+@dataclass(frozen=True)
+class GradedCell:
+    """An autograded tests cell of the source notebook."""
+
+    grade_id: str
+    function: str
+    points: float
+
+
+def graded_cells(source: nbformat.NotebookNode) -> list[GradedCell]:
+    """The autograded tests cells of a source notebook, in order."""
+    cells = []
+    for cell in source.cells:
+        meta = cell.metadata.get("nbgrader") or {}
+        gid = meta.get("grade_id", "")
+        if cell.cell_type == "code" and meta.get("grade") and gid.startswith("test_"):
+            cells.append(GradedCell(gid, gid[len("test_"):], float(meta.get("points", 0))))
+    return cells
+
+
+@functools.lru_cache(maxsize=64)
+def hidden_cases(function: str, seed: int) -> tuple[list[Case], list[Any]]:
+    """The hidden cases of ``function`` for a run's ``seed`` and the reference's outputs on them."""
+    rng = np.random.default_rng([seed, zlib.crc32(function.encode())])
+    cases = all_checks()[function].cases(rng)
+    return cases, reference_outputs(cases)
+
+
+def verify(function: str, seed: int, collected: Collected | None, failure: str | None) -> FunctionResult:
+    """Verdicts for one function from what its collection produced.
+
+    Parameters
+    ----------
+    collected : Collected or None
+        The outputs read back, or None when collection failed (then ``failure`` says why).
+    """
+    cases, expected = hidden_cases(function, seed)
+    if collected is None:
+        return FunctionResult(function, error=failure or "no outputs")
+    if len(collected.cases) != len(cases):
+        raise OutputError(f"{function}: {len(collected.cases)} outputs for {len(cases)} cases")
+    return evaluate(all_checks()[function], cases, collected.cases, expected)

@@ -1,0 +1,11 @@
+"""Run one student's notebook in a Jupyter kernel confined by bubblewrap.
+
+:mod:`grader.sandbox.bwrap` builds the sandboxed command line,
+:mod:`grader.sandbox.kernel` runs an IPython kernel through it, and
+:mod:`grader.sandbox.limits` holds the resource limits and process accounting.
+"""
+
+from grader.sandbox.bwrap import SandboxSpec, bwrap_available, wrap_command
+from grader.sandbox.kernel import SandboxedKernelManager, peak_memory_bytes
+
+__all__ = ["SandboxSpec", "bwrap_available", "wrap_command", "SandboxedKernelManager", "peak_memory_bytes"]

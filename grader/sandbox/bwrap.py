@@ -1,0 +1,279 @@
+"""Command lines that run a student's code under bubblewrap with resource limits.
+
+Inside the sandbox the student sees a read-only view of the Python environment
+and the system (``/usr``, the ``/lib*`` and ``/bin`` links, a few files of
+``/etc``), the course's read-only extras (``data/``, ``starter/``) and their own
+writable working directory, each at its host path; ``/tmp`` is a private tmpfs,
+``/proc`` and ``/dev`` are minimal, there is no network and no view of the rest
+of the host (the repository's ``reference/``, other students, the gradebook).
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib.util
+import logging
+import os
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from grader.sandbox.limits import prlimit_prefix
+
+__all__ = ["SandboxSpec", "bwrap_available", "wrap_command", "DEFAULT_MEMORY_BYTES", "DEFAULT_CPU_SECONDS"]
+
+log = logging.getLogger(__name__)
+
+DEFAULT_MEMORY_BYTES = 4 * 2**30
+DEFAULT_CPU_SECONDS = 3600
+
+# Top-level packages the student must never import, masked wherever they are installed.
+HIDDEN_PACKAGES = ("reference", "grader")
+
+# What Python, numpy, matplotlib and the shell tools need from /etc; the rest of
+# /etc (package-manager credentials, ssh, shadow) stays out of sight.
+ETC_ENTRIES = (
+    "alternatives",
+    "fonts",
+    "group",
+    "host.conf",
+    "hosts",
+    "ld.so.cache",
+    "ld.so.conf",
+    "ld.so.conf.d",
+    "localtime",
+    "mime.types",
+    "nsswitch.conf",
+    "os-release",
+    "passwd",
+    "timezone",
+)
+
+# Merged-/usr systems make these symlinks into /usr; older ones have real directories.
+ROOT_LINKS = ("bin", "sbin", "lib", "lib32", "lib64", "libx32")
+
+
+@dataclass
+class SandboxSpec:
+    """What one sandboxed run may see and use.
+
+    Parameters
+    ----------
+    workdir : Path
+        Existing directory, the only writable place (besides the private
+        ``/tmp``); also ``HOME`` and the working directory.
+    readonly : list of Path
+        Existing extra paths bound read-only at the same path (course
+        ``data/``, the ``starter/`` package).
+    hide : list of Path
+        Paths masked (by an empty tmpfs, or ``/dev/null`` for a file) if they
+        lie inside a tree the sandbox binds; the ``reference`` and ``grader``
+        packages are always masked.
+    memory_bytes : int
+        Address-space limit (``RLIMIT_AS``) of every process, in bytes.
+    cpu_seconds : int or None
+        CPU-time limit (``RLIMIT_CPU``) of every process, a backstop behind the
+        executor's per-cell timeout; ``None`` for none.
+    env : dict of str to str
+        Extra environment variables, applied over the sandbox's clean defaults.
+
+    Paths are made absolute and resolved (symlinks followed) on construction.
+    """
+
+    workdir: Path
+    readonly: list[Path] = field(default_factory=list)
+    hide: list[Path] = field(default_factory=list)
+    memory_bytes: int = DEFAULT_MEMORY_BYTES
+    cpu_seconds: int | None = DEFAULT_CPU_SECONDS
+    env: dict[str, str] = field(default_factory=dict)
+
+    def __post_init__(self):
+        self.workdir = Path(self.workdir).resolve()
+        if not self.workdir.is_dir():
+            raise ValueError(f"workdir must be an existing directory, got {str(self.workdir)!r}")
+        self.readonly = [Path(p).resolve() for p in self.readonly]
+        missing = [str(p) for p in self.readonly if not p.exists()]
+        if missing:
+            raise ValueError(f"readonly must list existing paths, missing: {missing}")
+        self.hide = [Path(p).resolve() for p in self.hide]
+        if not _is_positive_int(self.memory_bytes):
+            raise ValueError(f"memory_bytes must be a positive int, got {self.memory_bytes!r}")
+        if self.cpu_seconds is not None and not _is_positive_int(self.cpu_seconds):
+            raise ValueError(f"cpu_seconds must be None or a positive int, got {self.cpu_seconds!r}")
+        bad = [k for k, v in dict(self.env).items() if not (isinstance(k, str) and k and "=" not in k and isinstance(v, str))]
+        if bad:
+            raise ValueError(f"env must map variable names (non-empty, no '=') to str values, bad keys: {bad!r}")
+        self.env = dict(self.env)
+
+
+def _is_positive_int(x) -> bool:
+    return isinstance(x, int) and not isinstance(x, bool) and x > 0
+
+
+@functools.cache
+def bwrap_available() -> bool:
+    """Whether bubblewrap is installed and can create namespaces here.
+
+    Returns
+    -------
+    bool
+        ``True`` if ``bwrap`` is on ``PATH`` and a trial sandbox with every
+        namespace unshared runs ``true`` successfully. Cached per process.
+    """
+    exe = shutil.which("bwrap")
+    if exe is None:
+        return False
+    trial = [exe, "--ro-bind", "/", "/", "--unshare-all", "--die-with-parent", "--new-session", "true"]
+    try:
+        return subprocess.run(trial, capture_output=True, timeout=30).returncode == 0
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+
+
+@functools.cache
+def _warn_without_bwrap() -> None:
+    log.warning("bubblewrap not available: grading without filesystem/network isolation")
+
+
+def sandbox_env(spec: SandboxSpec) -> dict[str, str]:
+    """The complete environment of the sandboxed command.
+
+    Parameters
+    ----------
+    spec : SandboxSpec
+
+    Returns
+    -------
+    dict of str to str
+        A clean, minimal environment (nothing inherited from the grader) with
+        ``spec.env`` applied last.
+    """
+    # Caches and IPython's profile go to the private /tmp so the workdir holds
+    # only what the student writes.
+    env = {
+        "PATH": os.pathsep.join([str(Path(sys.executable).parent), "/usr/local/bin", "/usr/bin", "/bin"]),
+        "HOME": str(spec.workdir),
+        "LANG": "C.UTF-8",
+        "TMPDIR": "/tmp",
+        "MPLBACKEND": "Agg",
+        "MPLCONFIGDIR": "/tmp/matplotlib",
+        "IPYTHONDIR": "/tmp/ipython",
+        "XDG_CACHE_HOME": "/tmp/cache",
+        "DEFORMLAB_NO_PLOTS": "1",
+        "OMP_NUM_THREADS": "1",
+        "OPENBLAS_NUM_THREADS": "1",
+        "MKL_NUM_THREADS": "1",
+        "PYTHONDONTWRITEBYTECODE": "1",
+    }
+    env.update(spec.env)
+    return env
+
+
+def _python_trees() -> list[Path]:
+    """Install trees the interpreter needs: the venv, its base and the real executable's."""
+    candidates = {Path(p) for p in (sys.prefix, sys.exec_prefix, sys.base_prefix, sys.base_exec_prefix)}
+    candidates.add(Path(sys.executable).resolve().parent.parent)
+    return sorted({p.resolve() for p in candidates} | candidates)
+
+
+def _is_within(path: Path, root: Path) -> bool:
+    return path == root or root in path.parents
+
+
+def _hidden_paths(spec: SandboxSpec) -> list[Path]:
+    """``spec.hide`` plus where the hidden packages are installed."""
+    hidden = list(spec.hide)
+    for name in HIDDEN_PACKAGES:
+        found = importlib.util.find_spec(name)
+        if found is None:
+            continue
+        if found.submodule_search_locations:
+            hidden.extend(Path(p).resolve() for p in found.submodule_search_locations)
+        elif found.origin:
+            hidden.append(Path(found.origin).resolve())
+    return hidden
+
+
+def _bwrap_args(spec: SandboxSpec) -> list[str]:
+    """bubblewrap options for ``spec``, mounts in an order where later ones win."""
+    args = [
+        "--unshare-all",  # network, pid, ipc, uts and (if possible) cgroup namespaces
+        "--die-with-parent",
+        "--new-session",
+    ]
+    if os.geteuid() == 0:
+        args += ["--cap-drop", "ALL"]
+    mounted = [Path("/usr")]
+    args += ["--ro-bind", "/usr", "/usr"]
+    for name in ROOT_LINKS:
+        path = Path("/") / name
+        if path.is_symlink():
+            args += ["--symlink", os.readlink(path), str(path)]
+        elif path.is_dir():
+            args += ["--ro-bind", str(path), str(path)]
+            mounted.append(path)
+    for name in ETC_ENTRIES:
+        args += ["--ro-bind-try", f"/etc/{name}", f"/etc/{name}"]
+    for tree in _python_trees():
+        if not any(_is_within(tree, m) for m in mounted):
+            args += ["--ro-bind", str(tree), str(tree)]
+            mounted.append(tree)
+    args += ["--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
+    # Parents before children, so a writable workdir inside a read-only extra
+    # (or the reverse) keeps its own mode.
+    user_binds = sorted([(spec.workdir, "--bind"), *((p, "--ro-bind") for p in spec.readonly)], key=lambda b: len(b[0].parts))
+    for path, how in user_binds:
+        args += [how, str(path), str(path)]
+        mounted.append(path)
+    for path in _hidden_paths(spec):
+        if not path.exists() or not any(_is_within(path, m) for m in mounted):
+            continue
+        if path.is_dir():
+            args += ["--tmpfs", str(path), "--remount-ro", str(path)]
+        else:
+            args += ["--ro-bind", "/dev/null", str(path)]
+    args += ["--chdir", str(spec.workdir), "--clearenv"]
+    for key, value in sandbox_env(spec).items():
+        args += ["--setenv", key, value]
+    return args
+
+
+# Without bwrap: start a new session (unless the launcher already made this
+# process a session leader, as jupyter_client does), enter the workdir, exec.
+_SESSION_LAUNCHER = (
+    "import os, sys\n"
+    "if os.getsid(0) != os.getpid():\n"
+    "    os.setsid()\n"
+    "os.chdir(sys.argv[1])\n"
+    "os.execvp(sys.argv[2], sys.argv[2:])\n"
+)
+
+
+def wrap_command(argv: list[str], spec: SandboxSpec) -> list[str]:
+    """Return the command line that runs ``argv`` inside the sandbox.
+
+    Parameters
+    ----------
+    argv : list of str
+        The command to sandbox (non-empty).
+    spec : SandboxSpec
+        What the command may see and use.
+
+    Returns
+    -------
+    list of str
+        ``prlimit ... -- bwrap ... -- argv`` when bubblewrap works here.
+        Otherwise a command that applies the same limits, clean environment
+        and working directory and runs ``argv`` in its own session, but with no
+        filesystem or network isolation; a warning says so once per process.
+    """
+    if not argv or not all(isinstance(a, str) for a in argv):
+        raise ValueError(f"argv must be a non-empty list of str, got {argv!r}")
+    limits = prlimit_prefix(spec.memory_bytes, spec.cpu_seconds)
+    if bwrap_available():
+        return [*limits, shutil.which("bwrap"), *_bwrap_args(spec), "--", *argv]
+    _warn_without_bwrap()
+    env = [f"{k}={v}" for k, v in sandbox_env(spec).items()]
+    return ["env", "-i", *env, *limits, sys.executable, "-I", "-S", "-c", _SESSION_LAUNCHER, str(spec.workdir), *argv]

@@ -1,0 +1,151 @@
+"""A Jupyter kernel manager whose kernel runs inside the grading sandbox.
+
+The kernel talks over ``ipc`` (Unix sockets): TCP cannot cross the sandbox's
+private network namespace. The connection file and the sockets live in a
+hidden folder of the workdir, which the sandbox binds at the same absolute
+path, so the paths in the connection file mean the same thing on both sides.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+
+from jupyter_client import KernelManager
+from jupyter_client.kernelspec import KernelSpec
+from jupyter_core.utils import run_sync
+
+from grader.sandbox.bwrap import SandboxSpec, wrap_command
+from grader.sandbox.limits import kill_and_reap, peak_rss_bytes, process_tree
+
+__all__ = ["SandboxedKernelManager", "peak_memory_bytes", "KERNEL_DIR_NAME"]
+
+KERNEL_DIR_NAME = ".sandbox-kernel"
+
+# sun_path holds 108 bytes including the terminating NUL.
+_MAX_SOCKET_PATH = 107
+
+
+class SandboxedKernelManager(KernelManager):
+    """Kernel manager for an IPython kernel confined by a :class:`SandboxSpec`.
+
+    Parameters
+    ----------
+    spec : SandboxSpec
+        The sandbox; ``spec.workdir`` becomes the kernel's working directory
+        and holds its connection file and sockets (in ``.sandbox-kernel/``).
+    **kw
+        Passed to :class:`jupyter_client.KernelManager`; ``transport``,
+        ``ip`` and ``connection_file`` are fixed by the sandbox.
+
+    Notes
+    -----
+    The kernel is the grader's own interpreter (``sys.executable``) running
+    ``-m ipykernel_launcher``. Interrupts travel as control messages, because a
+    signal to the launcher would stop bwrap rather than reach the kernel.
+    Shutting down (``now=True`` or not) ends with SIGKILL to every process of
+    the sandbox, so a kernel that ignores SIGINT/SIGTERM or a student process
+    in its own session cannot outlive it.
+    """
+
+    def __init__(self, spec: SandboxSpec, **kw):
+        if not isinstance(spec, SandboxSpec):
+            raise ValueError(f"spec must be a SandboxSpec, got {type(spec).__name__}")
+        fixed = sorted({"transport", "ip", "connection_file"} & kw.keys())
+        if fixed:
+            raise ValueError(f"kw must not set {fixed}: the sandbox fixes them")
+        kernel_dir = spec.workdir / KERNEL_DIR_NAME
+        ip = str(kernel_dir / "kernel-ipc")
+        if len(ip) + len("-99999") > _MAX_SOCKET_PATH:
+            raise ValueError(
+                f"workdir is too long for Unix socket paths ({len(ip)} characters in {ip!r}); use a shorter workdir"
+            )
+        super().__init__(transport="ipc", ip=ip, connection_file=str(kernel_dir / "kernel.json"), **kw)
+        self.sandbox_spec = spec
+
+    @property
+    def kernel_spec(self) -> KernelSpec:
+        """The sandboxed IPython kernel's spec (never looked up by name)."""
+        return KernelSpec(
+            argv=[sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+            display_name="Python 3 (sandboxed)",
+            language="python",
+            interrupt_mode="message",
+        )
+
+    def format_kernel_cmd(self, extra_arguments: list[str] | None = None) -> list[str]:
+        """The kernel command, wrapped in the sandbox.
+
+        Parameters
+        ----------
+        extra_arguments : list of str, optional
+            Appended to the kernel's own arguments.
+
+        Returns
+        -------
+        list of str
+            :func:`grader.sandbox.bwrap.wrap_command` of
+            ``python -m ipykernel_launcher -f <connection file> ...``.
+        """
+        # Inside the pid namespace the kernel's parent is bwrap's pid 1; saying so
+        # keeps ipykernel from polling a parent pid it cannot see and from
+        # printing its "ipython kernel entry point" note on the grader's stdout.
+        spec = dataclasses.replace(self.sandbox_spec, env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env})
+        return wrap_command(super().format_kernel_cmd(extra_arguments), spec)
+
+    async def _async_pre_start_kernel(self, **kw):
+        (self.sandbox_spec.workdir / KERNEL_DIR_NAME).mkdir(mode=0o700, exist_ok=True)
+        return await super()._async_pre_start_kernel(**kw)
+
+    pre_start_kernel = run_sync(_async_pre_start_kernel)
+
+    def _sandbox_processes(self):
+        if self.provisioner is None or self.provisioner.pid is None or not self.has_kernel:
+            return []
+        return process_tree(self.provisioner.pid)
+
+    async def _async_kill_kernel(self, restart: bool = False) -> None:
+        # The whole tree at once, before the launcher dies and orphans it.
+        kill_and_reap(self._sandbox_processes())
+        await super()._async_kill_kernel(restart=restart)
+
+    _kill_kernel = run_sync(_async_kill_kernel)
+
+    async def _async_shutdown_kernel(self, now: bool = False, restart: bool = False) -> None:
+        # A polite shutdown lets the kernel exit on its own; whatever it started
+        # (in the no-bwrap fallback, where no pid namespace reaps it) is killed after.
+        tree = self._sandbox_processes()
+        await super()._async_shutdown_kernel(now=now, restart=restart)
+        kill_and_reap(tree)
+
+    shutdown_kernel = run_sync(_async_shutdown_kernel)
+
+    async def _async_cleanup_resources(self, restart: bool = False) -> None:
+        await super()._async_cleanup_resources(restart=restart)
+        if not restart:
+            # Leave the workdir as the student left it; the folder is empty
+            # once the connection file and sockets are gone.
+            try:
+                (self.sandbox_spec.workdir / KERNEL_DIR_NAME).rmdir()
+            except OSError:
+                pass
+
+    cleanup_resources = run_sync(_async_cleanup_resources)
+
+
+def peak_memory_bytes(km: SandboxedKernelManager) -> int | None:
+    """Peak resident memory of the sandboxed kernel, measured from the host.
+
+    Parameters
+    ----------
+    km : SandboxedKernelManager
+        A manager whose kernel is running.
+
+    Returns
+    -------
+    int or None
+        The largest peak RSS (``VmHWM``) in bytes among the sandbox's live
+        processes (the kernel's own peak, unless a child it started peaked
+        higher); ``None`` if no kernel is running. Call it before shutdown.
+    """
+    return peak_rss_bytes(p.pid for p in km._sandbox_processes())

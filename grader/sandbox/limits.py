@@ -1,0 +1,154 @@
+"""Resource limits for a sandboxed command and accounting of its process tree.
+
+Limits are set with ``prlimit`` (util-linux) in front of the command, so they
+are visible on the command line and inherited by every process the student
+starts. The process-tree helpers read ``/proc`` of the host: the host sees the
+real pids of every process in the sandbox, including those in a private pid
+namespace or a new session.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from collections.abc import Iterable
+from pathlib import Path
+from typing import NamedTuple
+
+__all__ = ["Process", "prlimit_prefix", "process_tree", "peak_rss_bytes", "kill_and_reap"]
+
+
+class Process(NamedTuple):
+    """A host process, identified by pid and start time so that a recycled pid
+    is never mistaken for it."""
+
+    pid: int
+    start_ticks: int
+
+
+def prlimit_prefix(memory_bytes: int, cpu_seconds: int | None) -> list[str]:
+    """Return the ``prlimit`` argv prefix that applies the sandbox's limits.
+
+    Parameters
+    ----------
+    memory_bytes : int
+        Address-space cap (``RLIMIT_AS``), soft and hard, in bytes.
+    cpu_seconds : int or None
+        CPU-time cap (``RLIMIT_CPU``) per process, in seconds; ``None`` for none.
+
+    Returns
+    -------
+    list of str
+        ``["prlimit", ..., "--"]``; append the command to run. Core dumps are
+        disabled too, so a crashing student process cannot fill the workdir.
+    """
+    prefix = ["prlimit", f"--as={memory_bytes}", "--core=0"]
+    if cpu_seconds is not None:
+        prefix.append(f"--cpu={cpu_seconds}")
+    return [*prefix, "--"]
+
+
+def _stat_fields(pid: int) -> list[str] | None:
+    """Fields of ``/proc/<pid>/stat`` after the command name (state first)."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:  # the process has exited
+        return None
+    # The command name is in parentheses and may contain spaces or ")".
+    return stat.rpartition(")")[2].split()
+
+
+def process_tree(pid: int) -> list[Process]:
+    """Return ``pid`` and all its live descendants.
+
+    Parameters
+    ----------
+    pid : int
+        Root of the tree (a host pid).
+
+    Returns
+    -------
+    list of Process
+        ``(k,)`` processes, ``pid`` first, then breadth-first; empty if
+        ``pid`` is not alive.
+    """
+    parents, starts = {}, {}
+    for entry in Path("/proc").iterdir():
+        fields = _stat_fields(int(entry.name)) if entry.name.isdigit() else None
+        if fields is not None:
+            parents[int(entry.name)] = int(fields[1])
+            starts[int(entry.name)] = int(fields[19])
+    if pid not in parents:
+        return []
+    children: dict[int, list[int]] = {}
+    for child, parent in parents.items():
+        children.setdefault(parent, []).append(child)
+    tree = [pid]
+    for p in tree:  # the list grows while we walk it: breadth-first
+        tree.extend(children.get(p, []))
+    return [Process(p, starts[p]) for p in tree]
+
+
+def _status_kib(pid: int, key: str) -> int | None:
+    try:
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if line.startswith(key + ":"):
+                return int(line.split()[1])
+    except OSError:
+        return None
+    return None
+
+
+def peak_rss_bytes(pids: Iterable[int]) -> int | None:
+    """Return the largest peak resident set size among processes.
+
+    Parameters
+    ----------
+    pids : iterable of int
+        Host pids; processes that have exited are skipped.
+
+    Returns
+    -------
+    int or None
+        ``max(VmHWM)`` in bytes over the live processes, ``None`` if none is
+        alive. ``VmHWM`` is each process's own high-water mark since it started,
+        so sampling any time before it exits gives its true peak.
+    """
+    peaks = [kib for kib in (_status_kib(p, "VmHWM") for p in pids) if kib is not None]
+    return max(peaks) * 1024 if peaks else None
+
+
+def _is_running(proc: Process) -> bool:
+    """True while ``proc`` has not exited (a zombie has exited; it only awaits
+    reaping) and its pid has not been recycled."""
+    fields = _stat_fields(proc.pid)
+    return fields is not None and fields[0] != "Z" and int(fields[19]) == proc.start_ticks
+
+
+def kill_and_reap(procs: Iterable[Process], timeout: float = 5.0) -> list[Process]:
+    """SIGKILL processes and wait until they have exited.
+
+    Parameters
+    ----------
+    procs : iterable of Process
+        Processes to kill; those that have already exited are ignored.
+    timeout : float
+        Seconds to wait for them to exit.
+
+    Returns
+    -------
+    list of Process
+        Those still running after ``timeout`` (empty on success).
+    """
+    pending = [p for p in procs if _is_running(p)]
+    for proc in pending:
+        try:
+            os.kill(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    deadline = time.monotonic() + timeout
+    while pending and time.monotonic() < deadline:
+        time.sleep(0.02)
+        pending = [p for p in pending if _is_running(p)]
+    return pending

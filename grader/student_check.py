@@ -1,0 +1,64 @@
+"""Run a notebook's public tests and print one line per function (``deformlab check``).
+
+This file is also shipped alone in the student bundle as ``check_notebook.py``,
+so it imports only the standard library, nbformat and nbclient.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+
+def check_notebook(path: Path, timeout: float = 120.0) -> int:
+    """Execute ``path`` top to bottom and report its public tests.
+
+    Returns
+    -------
+    int
+        0 when every tests cell passes, 1 otherwise (2 if the file cannot be read).
+    """
+    import nbformat
+    from nbclient import NotebookClient
+
+    path = Path(path)
+    try:
+        nb = nbformat.read(path, as_version=4)
+    except Exception as exc:  # noqa: BLE001 - any unreadable file
+        print(f"cannot read {path}: {exc}", file=sys.stderr)
+        return 2
+    os.environ.setdefault("DEFORMLAB_NO_PLOTS", "1")  # pictures are for the notebook, not for this table
+    client = NotebookClient(nb, timeout=timeout, allow_errors=True, kernel_name="python3",
+                            resources={"metadata": {"path": str(path.parent.resolve())}})
+    try:
+        client.execute()
+    except Exception as exc:  # noqa: BLE001 - a timeout or a dead kernel ends the run, not the report
+        print(f"note: execution stopped early: {type(exc).__name__}: {exc}", file=sys.stderr)
+    rows = []
+    for cell in nb.cells:
+        meta = cell.get("metadata", {}).get("nbgrader") or {}
+        gid = meta.get("grade_id", "")
+        if cell.cell_type != "code" or not meta.get("grade") or not gid.startswith("test_"):
+            continue
+        error = next((o for o in cell.get("outputs", []) if o.get("output_type") == "error"), None)
+        if cell.get("execution_count") is None and error is None:
+            rows.append((gid[5:], "NOT RUN", "execution stopped before this cell"))
+        elif error is None:
+            rows.append((gid[5:], "pass", ""))
+        else:
+            rows.append((gid[5:], "FAIL", f"{error.get('ename')}: {str(error.get('evalue', '')).splitlines()[0] if error.get('evalue') else ''}"))
+    width = max([len(r[0]) for r in rows] + [8])
+    print(f"{'function':<{width}}  result   message")
+    for name, status, message in rows:
+        print(f"{name:<{width}}  {status:<7}  {message[:160]}")
+    failed = sum(status != "pass" for _, status, _ in rows)
+    print(f"{len(rows) - failed} passed, {failed} failed")
+    return 1 if failed or not rows else 0
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        print("usage: python check_notebook.py NOTEBOOK.ipynb", file=sys.stderr)
+        sys.exit(2)
+    sys.exit(check_notebook(Path(sys.argv[1])))
