@@ -50,7 +50,7 @@ def hidden_section(function: str) -> str:
             "# Graded in the grading process on fresh hidden inputs (grader/checks); here the",
             "# same checks run against this notebook's functions.",
             "from grader.checks import run_hidden_checks as _run_hidden_checks",
-            f"_run_hidden_checks({function!r}, globals())",
+            f"_hidden_result = _run_hidden_checks({function!r}, globals())",
             END_HIDDEN,
         ]
     )

@@ -1,0 +1,339 @@
+# ---
+# jupyter:
+#   jupytext:
+#     text_representation:
+#       extension: .py
+#       format_name: percent
+#   kernelspec:
+#     display_name: Python 3 (ipykernel)
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # 01 · Shape matching: the best orthogonal map between two point sets
+#
+# You are given $k$ points $p_1, \dots, p_k$ (the rows of `P`, shape `(k, d)`),
+# the same points after some motion, $q_1, \dots, q_k$ (the rows of `Q`, with
+# $q_i$ corresponding to $p_i$), and weights $w_i \ge 0$ saying how much each
+# pair counts. Find the orthogonal matrix $R$ ($R^\top R = I$) and the
+# translation $t$ that explain the motion best in the least-squares sense:
+#
+# $$E(R, t) = \sum_{i=1}^{k} w_i \,\lVert R p_i + t - q_i \rVert^2 \;\to\; \min.$$
+#
+# This small problem is the heart of as-rigid-as-possible deformation (stage 03):
+# there, it is solved for the neighbourhood of every vertex, in every iteration.
+# Here we allow every orthogonal $R$; stage 02 restricts it to rotations.
+#
+# The derivation splits the problem in two: first $t$ for a fixed $R$, then $R$.
+#
+# **How to work.** Write each function in the cell below its explanation,
+# replacing `raise NotImplementedError()`, then run the tests cell under it.
+# Those tests are there to help you; your functions are graded on more inputs
+# than they show. Later cells use your earlier functions.
+
+# %%
+import numpy as np
+
+from starter import load_mesh, plotting
+
+rng = np.random.default_rng(0)
+
+
+def rotation_2d(angle):
+    """Counter-clockwise rotation of the plane by ``angle`` radians, (2, 2)."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s], [s, c]])
+
+
+def rotation_3d(axis, angle):
+    """Rotation by ``angle`` radians about ``axis`` (Rodrigues' formula), (3, 3)."""
+    k = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * K @ K
+
+
+# %% [markdown]
+# Our running example: every tenth vertex of the 2D character, waving (its
+# right arm turned about the shoulder, so that the points have no mirror
+# symmetry), are the points $p_i$; the $q_i$ are the same points turned, moved
+# and perturbed by a little noise. Points are rows, so applying $R$ and $t$ to
+# all of them at once reads `P @ R.T + t`.
+
+# %%
+V_character, _ = load_mesh("character")
+P = V_character[::10].copy()
+arm = (P[:, 0] > 0.4) & (P[:, 1] > 0.6)
+shoulder = np.array([0.3, 1.05])
+P[arm] = (P[arm] - shoulder) @ rotation_2d(1.0).T + shoulder
+size = np.linalg.norm(P.max(axis=0) - P.min(axis=0))
+Q = P @ rotation_2d(2.2).T + np.array([1.2, 0.4]) * size + rng.normal(scale=0.01 * size, size=P.shape)
+plotting.show_points(P, Q, title="source P and target Q")
+
+# %% [markdown]
+# ## 1. The translation: centroids
+#
+# For a fixed $R$, $E$ is a convex quadratic function of $t$, so it is smallest
+# where its gradient vanishes:
+#
+# $$\frac{\partial E}{\partial t} = 2 \sum_i w_i \,(R p_i + t - q_i) = 0
+# \quad\Longleftrightarrow\quad
+# \Big(\sum_i w_i\Big)\, t = \sum_i w_i q_i - R \sum_i w_i p_i
+# \quad\Longleftrightarrow\quad
+# t = \bar q - R \bar p,$$
+#
+# with the **weighted centroids**
+#
+# $$\bar p = \frac{\sum_i w_i\, p_i}{\sum_i w_i}, \qquad \bar q = \frac{\sum_i w_i\, q_i}{\sum_i w_i}.$$
+#
+# The best motion maps the centroid of the $p_i$ onto the centroid of the $q_i$.
+#
+# `centroid(P, w=None)` returns $\bar p$, shape `(d,)`; `w=None` means all weights
+# are $1$. One line of numpy does it (a product with `@`, or `np.average`).
+
+# %% deformlab={"solution": "centroid"}
+
+# %% deformlab={"tests": "centroid", "points": 2}
+_P = np.array([[0.0, 0.0], [4.0, 0.0], [0.0, 2.0], [4.0, 2.0]])
+_c = centroid(_P)
+assert np.shape(_c) == (2,), (
+    f"the centroid of 4 points in 2D has shape (2,), got {np.shape(_c)}: average over the points (axis 0)"
+)
+assert np.allclose(_c, [2.0, 1.0]), f"centroid of the corners of [0, 4] x [0, 2]: expected [2, 1], got {_c}"
+_c = centroid(np.eye(3))
+assert np.allclose(_c, [1 / 3, 1 / 3, 1 / 3]), f"centroid of the rows of the 3x3 identity: expected [1/3, 1/3, 1/3], got {_c}"
+
+_w = np.array([1.0, 3.0, 0.0, 0.0])
+_c = centroid(_P, _w)
+assert np.allclose(_c, [3.0, 0.0]), (
+    f"weights {_w.tolist()}: expected (1·[0, 0] + 3·[4, 0]) / 4 = [3, 0], got {_c}"
+    + (": the weights are ignored" if np.allclose(_c, [2.0, 1.0]) else "")
+)
+_c = centroid(_P, 10 * _w)
+assert np.allclose(_c, [3.0, 0.0]), (
+    f"weights {(10 * _w).tolist()} must give the same centroid [3, 0] as {_w.tolist()}, got {_c}: "
+    "divide by the sum of the weights, not by the number of points"
+)
+
+# %% [markdown]
+# ## 2. The rotation part: the covariance matrix
+#
+# Put $t = \bar q - R\bar p$ back into $E$. With the **centred** points
+# $\tilde p_i = p_i - \bar p$ and $\tilde q_i = q_i - \bar q$,
+# $R p_i + t - q_i = R \tilde p_i - \tilde q_i$, and expanding the square gives
+#
+# $$E = \sum_i w_i \big(\tilde p_i^\top R^\top R\, \tilde p_i - 2\, \tilde q_i^\top R\, \tilde p_i + \tilde q_i^\top \tilde q_i\big)
+#     = \underbrace{\sum_i w_i \big(\lVert \tilde p_i \rVert^2 + \lVert \tilde q_i \rVert^2\big)}_{\text{independent of } R}
+#       \;-\; 2 \sum_i w_i\, \tilde q_i^\top R\, \tilde p_i,$$
+#
+# because $R^\top R = I$. A number is its own trace and the trace is invariant
+# under cyclic permutations, so $\tilde q_i^\top R \tilde p_i = \operatorname{tr}(R\, \tilde p_i \tilde q_i^\top)$ and
+#
+# $$\sum_i w_i\, \tilde q_i^\top R\, \tilde p_i = \operatorname{tr}(R S), \qquad
+# S = \sum_i w_i\, \tilde p_i \tilde q_i^\top .$$
+#
+# **Minimizing $E$ over $R$ is maximizing $\operatorname{tr}(RS)$.** All that the
+# points tell about the best $R$ is in the $d \times d$ matrix $S$, however many
+# points there are.
+#
+# `covariance_matrix(P, Q, w=None)` returns $S$, shape `(d, d)`. Without a loop:
+# with the centred points as rows of $\tilde P$ and $\tilde Q$ and $W = \operatorname{diag}(w)$,
+# $S = \tilde P^\top W \tilde Q$ (multiply the rows by $w$ with broadcasting
+# rather than building $W$). Mind the order: $p$ on the left, $q$ on the right;
+# the transpose of $S$ is the covariance of the reverse problem, mapping $Q$ to $P$.
+
+# %% deformlab={"solution": "covariance_matrix"}
+
+# %% deformlab={"tests": "covariance_matrix", "points": 3}
+_P = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 2.0], [0.0, -2.0]])
+_Q = _P @ rotation_2d(np.pi / 2).T  # each q_i is p_i turned by 90 degrees
+_expected = np.array([[0.0, 2.0], [-8.0, 0.0]])
+_S = covariance_matrix(_P, _Q)
+assert np.shape(_S) == (2, 2), f"S is d x d = (2, 2) for points in 2D, whatever their number; got shape {np.shape(_S)}"
+assert np.allclose(_S, _expected), (
+    f"P turned by 90 degrees: expected S = {_expected.tolist()}, got {np.round(_S, 6).tolist()}"
+    + (": that is the transpose, S = sum_i w_i p̃_i q̃_iᵀ has p on the left" if np.allclose(_S, _expected.T) else "")
+    + (": S is a sum, not an average" if np.allclose(_S * len(_P), _expected) else "")
+)
+_S = covariance_matrix(_P + [5.0, -1.0], _Q + [10.0, 3.0])
+assert np.allclose(_S, _expected), (
+    f"translating P and Q must not change S: expected {_expected.tolist()}, got {np.round(_S, 6).tolist()}: "
+    "subtract the centroids before multiplying"
+)
+
+_w = np.array([1.0, 0.0, 1.0, 0.0])
+_expected = np.array([[1.0, 0.5], [-2.0, -1.0]])
+_S = covariance_matrix(_P, _Q, _w)
+assert np.allclose(_S, _expected), (
+    f"weights {_w.tolist()}: expected S = {_expected.tolist()}, got {np.round(_S, 6).tolist()}: "
+    "centre with the weighted centroids, and weight each term w_i p̃_i q̃_iᵀ once"
+)
+_S = covariance_matrix(_P, _Q, 2 * _w)
+assert np.allclose(_S, 2 * _expected), (
+    f"S is a weighted sum, so doubling the weights doubles S: weights {(2 * _w).tolist()} must give "
+    f"{(2 * _expected).tolist()}, got {np.round(_S, 6).tolist()}"
+)
+
+# %% [markdown]
+# ## 3. The best orthogonal matrix: the SVD
+#
+# Take the singular value decomposition
+#
+# $$S = U \Sigma \tilde V^\top, \qquad U, \tilde V \text{ orthogonal}, \qquad
+# \Sigma = \operatorname{diag}(\sigma_1, \dots, \sigma_d), \quad \sigma_1 \ge \dots \ge \sigma_d \ge 0$$
+#
+# (the tilde keeps $\tilde V$ apart from the vertex array `V`). Then, using the
+# cyclic invariance of the trace once more,
+#
+# $$\operatorname{tr}(R S) = \operatorname{tr}(R\, U \Sigma \tilde V^\top)
+# = \operatorname{tr}(\Sigma\, \tilde V^\top R\, U) = \operatorname{tr}(\Sigma M)
+# = \sum_{i=1}^d \sigma_i\, m_{ii},
+# \qquad M = \tilde V^\top R\, U.$$
+#
+# $M$ is a product of orthogonal matrices, hence orthogonal, and every orthogonal
+# $M$ comes from exactly one $R = \tilde V M U^\top$: maximizing over $R$ is
+# maximizing over $M$. The columns of an orthogonal matrix are unit vectors, so
+# $|m_{ii}| \le 1$ and, since $\sigma_i \ge 0$,
+#
+# $$\operatorname{tr}(R S) = \sum_i \sigma_i\, m_{ii} \;\le\; \sum_i \sigma_i .$$
+#
+# The bound is reached by $M = I$, that is
+#
+# $$\boxed{R = \tilde V U^\top}$$
+#
+# When every $\sigma_i > 0$ it is the only maximizer (equality forces every
+# $m_{ii} = 1$, hence $M = I$). When $\sigma_d = 0$ (all points on a line in 2D,
+# or in a plane in 3D) $m_{dd}$ does not matter and several $R$ are optimal; any
+# of them is a correct answer.
+#
+# `optimal_orthogonal(S)` returns $R$, shape `(d, d)`. Careful with numpy:
+# `U, sigma, Vt = np.linalg.svd(S)` returns `S = U @ np.diag(sigma) @ Vt`, so its
+# third output is already $\tilde V^\top$. Mixing that up gives the transpose
+# $R^\top = U \tilde V^\top$, the best map from $Q$ back to $P$.
+#
+# Note what the derivation did **not** use: $\det R = +1$. Nothing stops
+# $\tilde V U^\top$ from being a reflection; that is the subject of stage 02.
+# Here, return $\tilde V U^\top$ as it is.
+
+# %% deformlab={"solution": "optimal_orthogonal"}
+
+# %% deformlab={"tests": "optimal_orthogonal", "points": 3}
+_S = np.array([[0.0, 2.0], [-8.0, 0.0]])  # the covariance of the 90-degree example above
+_R = optimal_orthogonal(_S)
+_R90 = rotation_2d(np.pi / 2)
+assert np.shape(_R) == (2, 2), f"R must have the shape of S, (2, 2); got {np.shape(_R)}"
+assert np.allclose(_R.T @ _R, np.eye(2), atol=1e-10), f"R must be orthogonal, but RᵀR = {np.round(_R.T @ _R, 6).tolist()}"
+assert np.allclose(_R, _R90, atol=1e-10), (
+    f"S comes from points turned by 90 degrees, so R should be {np.round(_R90, 6).tolist()}, "
+    f"got {np.round(_R, 6).tolist()}"
+    + (": that is the transpose; R = Ṽ Uᵀ and np.linalg.svd returns Ṽᵀ as its third output" if np.allclose(_R, _R90.T) else "")
+)
+
+_S = np.random.default_rng(1).normal(size=(3, 3))
+_R = optimal_orthogonal(_S)
+_best = np.linalg.svd(_S, compute_uv=False).sum()
+assert np.allclose(_R.T @ _R, np.eye(3), atol=1e-10), f"R must be orthogonal, but RᵀR = {np.round(_R.T @ _R, 6).tolist()}"
+assert np.isclose(np.trace(_R @ _S), _best, atol=1e-10), (
+    f"tr(R S) = {np.trace(_R @ _S):.6f}, but the maximum over orthogonal R is the sum of the singular values "
+    f"of S, {_best:.6f}: check R = Ṽ Uᵀ"
+)
+
+_S = np.diag([3.0, 2.0, -1.0])
+_R = optimal_orthogonal(_S)
+assert np.allclose(_R, np.diag([1.0, 1.0, -1.0]), atol=1e-10), (
+    f"for S = diag(3, 2, -1) the best orthogonal R is the reflection diag(1, 1, -1) (tr(R S) = 6), "
+    f"got {np.round(_R, 6).tolist()} with det {np.linalg.det(_R):.3f}: optimal_orthogonal maximizes over all "
+    "orthogonal matrices, reflections included (correcting the sign is stage 02)"
+)
+
+# %% [markdown]
+# ## 4. Putting it together
+#
+# `orthogonal_align(P, Q, w=None)` returns the pair `(R, t)` minimizing $E$ over
+# orthogonal $R$: $R$ from the covariance matrix, then $t = \bar q - R \bar p$.
+# Use your three functions.
+
+# %% deformlab={"solution": "orthogonal_align"}
+
+# %% deformlab={"tests": "orthogonal_align", "points": 3}
+_P = np.random.default_rng(2).normal(size=(10, 3))
+_R0 = rotation_3d([1.0, 2.0, 2.0], 0.8)
+_t0 = np.array([1.0, -2.0, 0.5])
+_Q = _P @ _R0.T + _t0  # q_i = R0 p_i + t0
+_out = orthogonal_align(_P, _Q)
+assert isinstance(_out, tuple) and len(_out) == 2, "orthogonal_align must return the pair (R, t)"
+_R, _t = _out
+assert np.shape(_R) == (3, 3) and np.shape(_t) == (3,), (
+    f"in 3D, R must have shape (3, 3) and t shape (3,); got {np.shape(_R)} and {np.shape(_t)}"
+)
+assert np.allclose(_R, _R0, atol=1e-8), (
+    f"Q is P moved rigidly by R0 = {np.round(_R0, 4).tolist()}: expected R = R0, got {np.round(_R, 4).tolist()}"
+    + (": that is R0ᵀ, check the order in S and R = Ṽ Uᵀ" if np.allclose(_R, _R0.T, atol=1e-8) else "")
+)
+assert np.allclose(_t, _t0, atol=1e-8), (
+    f"expected t = {_t0.tolist()}, got {np.round(_t, 6).tolist()}"
+    + (": t = q̄ - R p̄, not q̄ - p̄" if np.allclose(_t, _Q.mean(axis=0) - _P.mean(axis=0)) else "")
+)
+
+_H = np.diag([1.0, 1.0, -1.0])
+_R, _t = orthogonal_align(_P, _P @ _H + _t0)
+assert np.allclose(_R, _H, atol=1e-8), (
+    f"Q is the mirror image of P in the plane z = 0 (then translated): the best orthogonal map is the reflection "
+    f"diag(1, 1, -1), got {np.round(_R, 4).tolist()} with det {np.linalg.det(_R):.3f}"
+)
+
+_Q_outlier = _Q.copy()
+_Q_outlier[0] += [5.0, 5.0, 5.0]
+_w = np.ones(len(_P))
+_w[0] = 0.0
+_R, _t = orthogonal_align(_P, _Q_outlier, _w)
+assert np.allclose(_R, _R0, atol=1e-8) and np.allclose(_t, _t0, atol=1e-8), (
+    "point 0 is an outlier with weight 0, so (R, t) must be exactly (R0, t0) as without it; "
+    f"got R = {np.round(_R, 4).tolist()}, t = {np.round(_t, 4).tolist()}: are the weights passed on to "
+    "covariance_matrix and to both centroids?"
+)
+
+# %% [markdown]
+# Back to the character: aligned, the source lands on the target up to the noise.
+
+# %%
+R, t = orthogonal_align(P, Q)
+rms_before = np.sqrt(np.mean(np.sum((P - Q) ** 2, axis=1)))
+rms_after = np.sqrt(np.mean(np.sum((P @ R.T + t - Q) ** 2, axis=1)))
+print(f"det R = {np.linalg.det(R):+.3f}; RMS distance to Q: {rms_before:.3f} before, {rms_after:.3f} after "
+      f"(the noise alone: {np.sqrt(P.shape[1]) * 0.01 * size:.3f})")
+plotting.show_points(P, Q, P @ R.T + t, title="P aligned to Q by orthogonal_align")
+
+# %% [markdown]
+# Now let the target be the **mirror image** of the character. The fit is
+# perfect, and $\det R = -1$: $R$ is a reflection, a map no rigid motion of the
+# plane can perform.
+
+# %%
+Q_mirror = P * np.array([-1.0, 1.0]) + np.array([1.2, 0.0]) * size
+R, t = orthogonal_align(P, Q_mirror)
+rms = np.sqrt(np.mean(np.sum((P @ R.T + t - Q_mirror) ** 2, axis=1)))
+print(f"det R = {np.linalg.det(R):+.3f}; RMS distance to the mirrored target: {rms:.2e}")
+plotting.show_points(P, Q_mirror, P @ R.T + t, title=f"mirrored target: det R = {np.linalg.det(R):+.0f}")
+
+# %% [markdown]
+# **Question.** When does the optimal orthogonal map $\tilde V U^\top$ turn out to
+# be a reflection ($\det = -1$)? Why is that bad when we use shape matching to
+# deform a shape (think of the local step of ARAP, which fits one such map to the
+# neighbourhood of every vertex)? Answer in a few sentences in the cell below.
+
+# %% [markdown] deformlab={"answer": "reflection", "points": 2}
+# $\det(\tilde V U^\top) = -1$ whenever a mirror image explains the data at least as
+# well as any rotation: (1) the target really is (close to) a mirror image of the
+# source, e.g. a neighbourhood that was flipped or folded over; (2) the data are
+# degenerate, all points on a line in 2D or in a plane in 3D: then
+# $\sigma_d = 0$, a rotation and its composition with the mirror across that
+# line or plane fit equally well, and the sign of the last singular vectors, hence
+# of $\det$, is an accident of the SVD; (3) nearly degenerate data plus noise (or
+# a large deformation), where $\sigma_d$ is tiny and the noise decides the sign.
+# It is bad for deformation because a reflection is not a motion of a physical
+# body: it turns the local frame inside out. In ARAP the local step would ask the
+# global step to make each such neighbourhood a mirror image of its rest shape,
+# producing flipped (inverted) triangles, folds and normals pointing inward, and
+# the rotation can jump between a rotation and a reflection from one iteration to
+# the next. We want the best *rotation*, $\det R = +1$.

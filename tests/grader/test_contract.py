@@ -1,0 +1,32 @@
+"""The contract table in grader/contract.py matches shared/CONTRACT.md and reference/."""
+
+import re
+from pathlib import Path
+
+import pytest
+
+import reference
+from grader.contract import CONTRACT_NAMES, MODULE_OF, STAGES
+
+CONTRACT_MD = Path(__file__).resolve().parents[3] / "shared" / "CONTRACT.md"
+
+
+@pytest.mark.skipif(not CONTRACT_MD.is_file(), reason="shared/CONTRACT.md is not beside this checkout")
+def test_registry_lists_exactly_the_functions_of_contract_md():
+    text = CONTRACT_MD.read_text()
+    names = set(re.findall(r"^\| `([a-z_]+)\(", text, flags=re.M))
+    assert names == set(CONTRACT_NAMES)
+
+
+def test_every_contract_function_is_importable_from_the_reference_package():
+    missing = sorted(n for n in CONTRACT_NAMES if not callable(getattr(reference, n, None)))
+    assert not missing, f"not exported by reference/__init__.py: {missing}"
+
+
+def test_each_function_lives_in_its_stage_module():
+    import importlib
+
+    for stage, (module, names) in STAGES.items():
+        mod = importlib.import_module(f"reference.{module}")
+        for name in names:
+            assert getattr(mod, name).__module__ == f"reference.{MODULE_OF[name]}", (stage, name)
