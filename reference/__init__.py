@@ -1,5 +1,40 @@
 """The hidden reference solution: every function of the student contract.
 
 One module per stage; every contract function is importable from the package
-itself, e.g. ``from reference import arap_solve``.
+itself, e.g. ``from reference import arap_solve``. Never shipped to students,
+never visible inside the grading sandbox.
 """
+
+from reference.meshes import boundary_loop_count, edges, euler_characteristic, genus
+from reference.shape_matching import centroid, covariance_matrix, optimal_orthogonal, orthogonal_align
+from reference.sign_correction import optimal_rotation, rigid_align
+from reference.arap import (
+    arap_covariances,
+    arap_energy,
+    arap_global_step,
+    arap_precompute,
+    arap_rotations,
+    arap_solve,
+    cotangent_laplacian,
+    cotangent_weights,
+    laplacian_editing,
+)
+from reference.bbw import (
+    bbw,
+    biharmonic_matrix,
+    handle_constraints,
+    inverse_distance_weights,
+    unconstrained_biharmonic_weights,
+)
+from reference.lbs import lbs, lbs_matrix
+
+__all__ = [
+    "edges", "euler_characteristic", "boundary_loop_count", "genus",
+    "centroid", "covariance_matrix", "optimal_orthogonal", "orthogonal_align",
+    "optimal_rotation", "rigid_align",
+    "cotangent_weights", "cotangent_laplacian", "arap_covariances", "arap_rotations", "arap_energy",
+    "arap_precompute", "arap_global_step", "arap_solve", "laplacian_editing",
+    "biharmonic_matrix", "handle_constraints", "inverse_distance_weights",
+    "unconstrained_biharmonic_weights", "bbw",
+    "lbs_matrix", "lbs",
+]

@@ -49,7 +49,7 @@ def as_float_array(x, name: str, ndim: int | None = None) -> np.ndarray:
     if sp.issparse(x):
         raise ValueError(f"{name} must be a dense array, got a sparse matrix")
     try:
-        a = np.array(x, dtype=np.float64, copy=True)
+        a = np.array(x, dtype=np.float64, order="C")  # a C-ordered copy; keeps 0-d arrays 0-d
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} must be a numeric array: {exc}") from None
     if ndim is not None and a.ndim != ndim:
@@ -57,7 +57,7 @@ def as_float_array(x, name: str, ndim: int | None = None) -> np.ndarray:
     if not np.all(np.isfinite(a)):
         bad = np.argwhere(~np.isfinite(a))[0]
         raise ValueError(f"{name} contains NaN or inf (first at index {tuple(int(i) for i in bad)})")
-    return np.ascontiguousarray(a)
+    return a
 
 
 def as_points(P, name: str = "P", dims=(2, 3), min_count: int = 1) -> np.ndarray:

@@ -1,7 +1,7 @@
 """Checks of stage 00 (edges and the Euler–Poincaré formula), and the hidden test meshes.
 
-The mesh helpers here (``relabel``, ``disjoint_union``, ``perforated_slab``,
-``closed_mesh_with_hole``) are also used by the later stages' checks, so
+The mesh helpers here (``relabel``, ``disjoint_union``, ``jittered_grid``,
+``perforated_slab``, ``closed_mesh_with_hole``) are also used by the later stages' checks, so
 every stage draws its hidden meshes the same way: a small mesh from
 ``starter.shapes`` with its vertices, triangles and corners shuffled by the
 run's generator, so that no output can be memorized from the handout.
@@ -13,6 +13,7 @@ import numpy as np
 
 from grader.checks.base import Case, FunctionChecks, as_array, as_int, verdict
 from starter import shapes
+from starter.meshes import load_mesh
 
 
 def relabel(V: np.ndarray, F: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
@@ -75,32 +76,56 @@ def perforated_slab(n_holes: int, max_area: float = 0.03) -> tuple[np.ndarray, n
     key = np.sort(half_edges, axis=1)
     _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
     a, b = half_edges[counts[inverse.ravel()] == 1].T  # boundary edges as the top triangles run them
-    walls = np.concatenate([np.stack([b, a, a + n], 1), np.stack([b, a + n, b + n], 1)])
+    # Quad a, b, b', a' runs each edge against the bottom's and the top's triangles.
+    walls = np.concatenate([np.stack([a, b, b + n], 1), np.stack([a, b + n, a + n], 1)])
     V = np.concatenate([np.c_[V2, np.zeros(n)], np.c_[V2, np.full(n, 0.2)]])
     return V, np.concatenate([F2[:, ::-1], F2 + n, walls]).astype(np.int64)
 
 
+def jittered_grid(rng: np.random.Generator, nx: int, ny: int, width: float = 1.0, height: float = 1.0, amount: float = 0.3) -> tuple[np.ndarray, np.ndarray]:
+    """``starter.shapes.grid_2d`` with interior vertices moved by up to ``amount`` cells: obtuse triangles, negative cotangents.
+
+    Returns
+    -------
+    V : ((nx + 1)(ny + 1), 2) numpy.ndarray of float64
+    F : (2 nx ny, 3) numpy.ndarray of int64
+        Still counter-clockwise for ``amount < 0.5``.
+    """
+    V, F = shapes.grid_2d(nx, ny, width=width, height=height)
+    interior = np.all((V > 0.0) & (V < [width, height]), axis=1)
+    V[interior] += rng.uniform(-amount, amount, (int(interior.sum()), 2)) * [width / nx, height / ny]
+    return V, F
+
+
 def closed_mesh_with_hole(V: np.ndarray, F: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """A closed mesh with one random triangle removed: one boundary loop, same genus."""
+    """A closed mesh with one random triangle removed: one boundary loop, same genus.
+
+    Returns
+    -------
+    V : (n, d) numpy.ndarray
+        ``V`` itself (every vertex of a closed mesh keeps other triangles).
+    F : (f - 1, 3) numpy.ndarray
+    """
     return V, np.delete(F, rng.integers(len(F)), axis=0)
 
 
 def _topology_meshes(rng: np.random.Generator) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """Small meshes covering closed, bounded, multi-component and higher-genus cases, shuffled."""
-    holes = int(rng.integers(1, 4))
+    """Closed, bounded, multi-component and higher-genus meshes (small ``starter.shapes`` and course meshes), shuffled."""
+    grid = shapes.grid_2d(int(rng.integers(2, 5)), 2)
     meshes = [
-        ("single triangle", np.array([[0.0, 0.0], [1.0, 0.0], [0.3, 0.8]]), np.array([[0, 1, 2]])),
         ("torus", *shapes.torus(n_major=int(rng.integers(8, 14)), n_minor=int(rng.integers(5, 8)))),
-        ("2D disc with holes", *shapes.disc_with_holes(holes, 0.03)),
-        ("closed bar", *shapes.bar(nx=int(rng.integers(4, 9)), ny=2, nz=int(rng.integers(1, 3)))),
+        ("2D disc with holes", *shapes.disc_with_holes(int(rng.integers(1, 4)), 0.03)),
+        ("sphere", *load_mesh("sphere")),
+        ("closed bar", *load_mesh("bar_coarse")),
         ("genus-2 slab", *perforated_slab(2)),
         ("open tube", *shapes.cylinder(n_around=int(rng.integers(5, 10)), n_along=3, caps=False)),
+        ("15 closed components (ant)", *load_mesh("ant")),
         (
             "three components: capped cylinder, torus with a hole, 2D grid lifted to 3D",
             *disjoint_union(
                 shapes.cylinder(n_around=6, n_along=2),
                 closed_mesh_with_hole(*shapes.torus(n_major=8, n_minor=5), rng),
-                (np.c_[shapes.grid_2d(3, 2)[0], np.zeros(12)], shapes.grid_2d(3, 2)[1]),
+                (np.c_[grid[0], np.zeros(len(grid[0]))], grid[1]),
             ),
         ),
     ]
@@ -126,19 +151,15 @@ class EdgesChecks(FunctionChecks):
         unsorted = np.flatnonzero(E[:, 0] >= E[:, 1])
         # Strictly increasing rows: lexicographic order and no duplicates in one test.
         step = np.diff(E, axis=0)
-        bad = np.flatnonzero((step[:, 0] < 0) | ((step[:, 0] == 0) & (step[:, 1] <= 0)))
+        disorder = np.flatnonzero((step[:, 0] < 0) | ((step[:, 0] == 0) & (step[:, 1] <= 0)))
         found = {tuple(e) for e in np.sort(E, axis=1).tolist()}
         wanted = {tuple(e) for e in want.tolist()}
         missing, extra = sorted(wanted - found), sorted(found - wanted)
-        verdicts = [
-            verdict("edge count", len(E) == len(want), f"returned {len(E)} rows, the mesh has {len(want)} edges"),
-            verdict("rows sorted ascending", unsorted.size == 0, unsorted.size and f"row {unsorted[0]} is {E[unsorted[0]].tolist()}"),
-            verdict(
-                "rows in lexicographic order, each edge once",
-                bad.size == 0,
-                bad.size and f"rows {bad[0]} and {bad[0] + 1} are {E[bad[0]].tolist()} and {E[bad[0] + 1].tolist()}",
-            ),
-        ]
+        verdicts = [verdict("edge count", len(E) == len(want), f"returned {len(E)} rows, the mesh has {len(want)} edges")]
+        detail = f"row {unsorted[0]} is {E[unsorted[0]].tolist()}" if unsorted.size else ""
+        verdicts.append(verdict("rows sorted ascending", unsorted.size == 0, detail))
+        detail = f"rows {disorder[0]} and {disorder[0] + 1} are {E[disorder[0]].tolist()} and {E[disorder[0] + 1].tolist()}" if disorder.size else ""
+        verdicts.append(verdict("rows in lexicographic order, each edge once", disorder.size == 0, detail))
         detail = []
         if missing:
             detail.append(f"{len(missing)} edge(s) of the mesh missing, e.g. {list(missing[0])}")

@@ -75,11 +75,11 @@ def write_feedback(out: Path, result: dict) -> None:
         write_text_atomic(Path(out) / "feedback" / safe_name(result["student_id"]) / f"{result['notebook']}.html", result["feedback_html"])
 
 
-def write_autograded(course: Path, result: dict) -> None:
-    """The executed notebook where formgrader looks for it."""
+def write_autograded(autograded: Path, result: dict) -> None:
+    """The executed notebook where formgrader looks for it (``<course>/autograded``)."""
     if result.get("autograded_notebook"):
         write_text_atomic(
-            Path(course) / "autograded" / safe_name(result["student_id"]) / result["assignment"] / f"{result['notebook']}.ipynb",
+            Path(autograded) / safe_name(result["student_id"]) / result["assignment"] / f"{result['notebook']}.ipynb",
             result["autograded_notebook"],
         )
 

@@ -33,6 +33,7 @@ class GradeOptions:
     seed: int | None = None
     assignment: str = ASSIGNMENT
     progress: bool = True
+    autograded: Path | None = None  # where executed notebooks go for formgrader; default: the course's autograded/
 
 
 def _worker_init() -> None:
@@ -145,8 +146,11 @@ def _reusable(out: Path, unit: UnitSpec) -> dict | None:
     return None
 
 
-def grade_class(submitted: Path, out: Path, options: GradeOptions) -> list[dict]:
+def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: CoursePaths | None = None) -> list[dict]:
     """Grade every student × notebook under ``submitted``; write ``out``.
+
+    ``paths`` selects the course (its source notebooks, data/ and starter/);
+    default: this checkout.
 
     Returns
     -------
@@ -162,7 +166,7 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions) -> list[dict]
     if not submitted.is_dir():
         raise FileNotFoundError(f"SUBMITTED must be a folder of student folders: {submitted} is not a folder")
     out.mkdir(parents=True, exist_ok=True)
-    paths = course_paths()
+    paths = paths or course_paths()
     db_url = options.db_url or paths.gradebook_url
     sources = ensure_sources(paths, options.assignment)
     ensure_gradebook(paths, db_url, options.assignment)
@@ -185,6 +189,7 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions) -> list[dict]
     from nbgrader.api import Gradebook
     from tqdm import tqdm
 
+    autograded = options.autograded or paths.course / "autograded"
     workers = max(1, options.workers or os.cpu_count() or 1)
     bar = tqdm(total=len(units), initial=len(results), desc="grading", unit="nb", disable=not options.progress, file=sys.stderr)
     with Gradebook(db_url) as gb:
@@ -202,7 +207,7 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions) -> list[dict]
                         broken = True
                         continue
                     todo.remove(unit)
-                    _record(out, paths, gb, result)
+                    _record(out, autograded, gb, result)
                     results.append(result)
                     bar.update(1)
             if broken and todo:
@@ -210,7 +215,7 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions) -> list[dict]
                 # one at a time; the unit that killed the pool is recorded as a grader error.
                 culprit = todo.pop(0)
                 result = _grader_error(culprit, "a grading worker process died while grading this notebook")
-                _record(out, paths, gb, result)
+                _record(out, autograded, gb, result)
                 results.append(result)
                 bar.update(1)
                 workers = 1
@@ -228,9 +233,9 @@ def _grader_error(unit: UnitSpec, reason: str) -> dict:
     return _zero_result(unit, source, "grader-error", reason, time.monotonic()) | {"feedback_html": None, "autograded_notebook": None}
 
 
-def _record(out: Path, paths: CoursePaths, gb, result: dict) -> None:
+def _record(out: Path, autograded: Path, gb, result: dict) -> None:
     record.write_feedback(out, result)
-    record.write_autograded(paths.course, result)
+    record.write_autograded(autograded, result)
     record.record_gradebook(gb, result)
     record.save_unit(out, result)
     record.append_log(out, result)

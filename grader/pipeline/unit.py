@@ -154,6 +154,7 @@ def grade_unit(spec: UnitSpec) -> dict:
                             "label": c.label,
                             "passed": c.passed,
                             "error": c.error,
+                            "seconds": c.seconds,
                             "failed": [f"{v.name}: {v.detail}" for v in c.verdicts if not v.passed],
                         }
                         for c in result.cases

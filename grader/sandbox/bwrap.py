@@ -22,7 +22,14 @@ from pathlib import Path
 
 from grader.sandbox.limits import prlimit_prefix
 
-__all__ = ["SandboxSpec", "bwrap_available", "wrap_command", "DEFAULT_MEMORY_BYTES", "DEFAULT_CPU_SECONDS"]
+__all__ = [
+    "SandboxSpec",
+    "bwrap_available",
+    "wrap_command",
+    "sandbox_env",
+    "DEFAULT_MEMORY_BYTES",
+    "DEFAULT_CPU_SECONDS",
+]
 
 log = logging.getLogger(__name__)
 
@@ -102,7 +109,9 @@ class SandboxSpec:
             raise ValueError(f"memory_bytes must be a positive int, got {self.memory_bytes!r}")
         if self.cpu_seconds is not None and not _is_positive_int(self.cpu_seconds):
             raise ValueError(f"cpu_seconds must be None or a positive int, got {self.cpu_seconds!r}")
-        bad = [k for k, v in dict(self.env).items() if not (isinstance(k, str) and k and "=" not in k and isinstance(v, str))]
+        if not isinstance(self.env, dict):
+            raise ValueError(f"env must be a dict of str to str, got {type(self.env).__name__}")
+        bad = [k for k, v in self.env.items() if not (_is_env_name(k) and isinstance(v, str))]
         if bad:
             raise ValueError(f"env must map variable names (non-empty, no '=') to str values, bad keys: {bad!r}")
         self.env = dict(self.env)
@@ -110,6 +119,10 @@ class SandboxSpec:
 
 def _is_positive_int(x) -> bool:
     return isinstance(x, int) and not isinstance(x, bool) and x > 0
+
+
+def _is_env_name(x) -> bool:
+    return isinstance(x, str) and x != "" and "=" not in x
 
 
 @functools.cache
@@ -125,7 +138,10 @@ def bwrap_available() -> bool:
     exe = shutil.which("bwrap")
     if exe is None:
         return False
-    trial = [exe, "--ro-bind", "/", "/", "--unshare-all", "--die-with-parent", "--new-session", "true"]
+    # The same namespaces and kernel filesystems as a real sandbox: containers
+    # often allow the namespaces but refuse to mount /proc.
+    mounts = ["--ro-bind", "/", "/", "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
+    trial = [exe, *_isolation_args(), *mounts, "true"]
     try:
         return subprocess.run(trial, capture_output=True, timeout=30).returncode == 0
     except (OSError, subprocess.TimeoutExpired):
@@ -196,8 +212,8 @@ def _hidden_paths(spec: SandboxSpec) -> list[Path]:
     return hidden
 
 
-def _bwrap_args(spec: SandboxSpec) -> list[str]:
-    """bubblewrap options for ``spec``, mounts in an order where later ones win."""
+def _isolation_args() -> list[str]:
+    """bubblewrap's namespace and process options."""
     args = [
         "--unshare-all",  # network, pid, ipc, uts and (if possible) cgroup namespaces
         "--die-with-parent",
@@ -205,6 +221,13 @@ def _bwrap_args(spec: SandboxSpec) -> list[str]:
     ]
     if os.geteuid() == 0:
         args += ["--cap-drop", "ALL"]
+    return args
+
+
+def _bwrap_args(spec: SandboxSpec) -> list[str]:
+    """bubblewrap options for ``spec``, mounts in an order where later ones win."""
+    # /tmp first, so that a venv or course folder under /tmp is bound on top of it.
+    args = [*_isolation_args(), "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
     mounted = [Path("/usr")]
     args += ["--ro-bind", "/usr", "/usr"]
     for name in ROOT_LINKS:
@@ -215,15 +238,18 @@ def _bwrap_args(spec: SandboxSpec) -> list[str]:
             args += ["--ro-bind", str(path), str(path)]
             mounted.append(path)
     for name in ETC_ENTRIES:
-        args += ["--ro-bind-try", f"/etc/{name}", f"/etc/{name}"]
+        path = Path("/etc") / name
+        if path.exists():
+            args += ["--ro-bind", str(path), str(path)]
+            mounted.append(path)
     for tree in _python_trees():
         if not any(_is_within(tree, m) for m in mounted):
             args += ["--ro-bind", str(tree), str(tree)]
             mounted.append(tree)
-    args += ["--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
     # Parents before children, so a writable workdir inside a read-only extra
     # (or the reverse) keeps its own mode.
-    user_binds = sorted([(spec.workdir, "--bind"), *((p, "--ro-bind") for p in spec.readonly)], key=lambda b: len(b[0].parts))
+    user_binds = [(spec.workdir, "--bind"), *((p, "--ro-bind") for p in spec.readonly)]
+    user_binds.sort(key=lambda bind: len(bind[0].parts))
     for path, how in user_binds:
         args += [how, str(path), str(path)]
         mounted.append(path)
@@ -276,4 +302,5 @@ def wrap_command(argv: list[str], spec: SandboxSpec) -> list[str]:
         return [*limits, shutil.which("bwrap"), *_bwrap_args(spec), "--", *argv]
     _warn_without_bwrap()
     env = [f"{k}={v}" for k, v in sandbox_env(spec).items()]
-    return ["env", "-i", *env, *limits, sys.executable, "-I", "-S", "-c", _SESSION_LAUNCHER, str(spec.workdir), *argv]
+    launcher = [sys.executable, "-I", "-S", "-c", _SESSION_LAUNCHER, str(spec.workdir)]
+    return ["env", "-i", *env, *limits, *launcher, *argv]

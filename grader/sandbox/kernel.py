@@ -9,14 +9,16 @@ path, so the paths in the connection file mean the same thing on both sides.
 from __future__ import annotations
 
 import dataclasses
+import os
 import sys
 
-from jupyter_client import KernelManager
+from jupyter_client import BlockingKernelClient, KernelManager
 from jupyter_client.kernelspec import KernelSpec
 from jupyter_core.utils import run_sync
+from traitlets import DottedObjectName
 
 from grader.sandbox.bwrap import SandboxSpec, wrap_command
-from grader.sandbox.limits import kill_and_reap, peak_rss_bytes, process_tree
+from grader.sandbox.limits import kill_and_reap, peak_rss_bytes, process_tree, processes_with_argument
 
 __all__ = ["SandboxedKernelManager", "peak_memory_bytes", "KERNEL_DIR_NAME"]
 
@@ -46,7 +48,18 @@ class SandboxedKernelManager(KernelManager):
     Shutting down (``now=True`` or not) ends with SIGKILL to every process of
     the sandbox, so a kernel that ignores SIGINT/SIGTERM or a student process
     in its own session cannot outlive it.
+
+    The manager's own methods are synchronous, but :meth:`client` returns an
+    ``AsyncKernelClient``, which is what nbclient needs: with a blocking client
+    nbclient's wait for a hung cell's output blocks its event loop, so its
+    cell timeout never fires. Use :meth:`blocking_client` to drive the kernel
+    from synchronous code.
+
+    Start the kernel from a thread that outlives it (nbclient does): bwrap's
+    ``--die-with-parent`` ties the sandbox to the starting *thread*.
     """
+
+    client_class = DottedObjectName("jupyter_client.asynchronous.AsyncKernelClient", config=True)
 
     def __init__(self, spec: SandboxSpec, **kw):
         if not isinstance(spec, SandboxSpec):
@@ -93,6 +106,16 @@ class SandboxedKernelManager(KernelManager):
         spec = dataclasses.replace(self.sandbox_spec, env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env})
         return wrap_command(super().format_kernel_cmd(extra_arguments), spec)
 
+    def blocking_client(self) -> BlockingKernelClient:
+        """A synchronous client connected to this kernel.
+
+        Returns
+        -------
+        jupyter_client.BlockingKernelClient
+        """
+        info = self.get_connection_info(session=True)
+        return BlockingKernelClient(**info, connection_file=self.connection_file, parent=self)
+
     async def _async_pre_start_kernel(self, **kw):
         (self.sandbox_spec.workdir / KERNEL_DIR_NAME).mkdir(mode=0o700, exist_ok=True)
         return await super()._async_pre_start_kernel(**kw)
@@ -100,9 +123,13 @@ class SandboxedKernelManager(KernelManager):
     pre_start_kernel = run_sync(_async_pre_start_kernel)
 
     def _sandbox_processes(self):
-        if self.provisioner is None or self.provisioner.pid is None or not self.has_kernel:
-            return []
-        return process_tree(self.provisioner.pid)
+        # Every process carrying the connection file in its argv is this
+        # sandbox's launcher, bwrap or kernel: that also finds a sandbox whose
+        # launcher died during setup, leaving bwrap's init orphaned.
+        roots = processes_with_argument(os.path.realpath(self.connection_file))
+        if self.provisioner is not None and self.provisioner.pid is not None and self.has_kernel:
+            roots.insert(0, self.provisioner.pid)
+        return process_tree(*roots)
 
     async def _async_kill_kernel(self, restart: bool = False) -> None:
         # The whole tree at once, before the launcher dies and orphans it.

@@ -16,7 +16,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["Process", "prlimit_prefix", "process_tree", "peak_rss_bytes", "kill_and_reap"]
+__all__ = ["Process", "prlimit_prefix", "process_tree", "processes_with_argument", "peak_rss_bytes", "kill_and_reap"]
 
 
 class Process(NamedTuple):
@@ -59,19 +59,19 @@ def _stat_fields(pid: int) -> list[str] | None:
     return stat.rpartition(")")[2].split()
 
 
-def process_tree(pid: int) -> list[Process]:
-    """Return ``pid`` and all its live descendants.
+def process_tree(*roots: int) -> list[Process]:
+    """Return the root processes and all their live descendants.
 
     Parameters
     ----------
-    pid : int
-        Root of the tree (a host pid).
+    *roots : int
+        Host pids of the roots.
 
     Returns
     -------
     list of Process
-        ``(k,)`` processes, ``pid`` first, then breadth-first; empty if
-        ``pid`` is not alive.
+        ``(k,)`` processes, each once: the live roots in the order given, then
+        their descendants breadth-first; empty if no root is alive.
     """
     parents, starts = {}, {}
     for entry in Path("/proc").iterdir():
@@ -79,15 +79,43 @@ def process_tree(pid: int) -> list[Process]:
         if fields is not None:
             parents[int(entry.name)] = int(fields[1])
             starts[int(entry.name)] = int(fields[19])
-    if pid not in parents:
-        return []
     children: dict[int, list[int]] = {}
     for child, parent in parents.items():
         children.setdefault(parent, []).append(child)
-    tree = [pid]
+    tree = list(dict.fromkeys(r for r in roots if r in parents))
+    seen = set(tree)
     for p in tree:  # the list grows while we walk it: breadth-first
-        tree.extend(children.get(p, []))
+        new = [c for c in children.get(p, []) if c not in seen]
+        seen.update(new)
+        tree.extend(new)
     return [Process(p, starts[p]) for p in tree]
+
+
+def processes_with_argument(argument: str) -> list[int]:
+    """Return the live processes that have ``argument`` as one of their argv entries.
+
+    Parameters
+    ----------
+    argument : str
+        An exact argv entry, e.g. a kernel's connection file.
+
+    Returns
+    -------
+    list of int
+        ``(k,)`` host pids, ascending.
+    """
+    wanted = os.fsencode(argument)
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            argv = (entry / "cmdline").read_bytes().split(b"\0")
+        except OSError:  # the process exited while we were scanning
+            continue
+        if wanted in argv:
+            found.append(int(entry.name))
+    return sorted(found)
 
 
 def _status_kib(pid: int, key: str) -> int | None:

@@ -1,0 +1,806 @@
+# ---
+# jupyter:
+#   jupytext:
+#     text_representation:
+#       extension: .py
+#       format_name: percent
+#   kernelspec:
+#     display_name: Python 3
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # 03 · As-rigid-as-possible deformation
+#
+# A user grabs a few *handles* of a shape, here the two ends of a bar, and moves
+# them. Every other vertex should follow so that the shape looks the same up
+# close: locally it may rotate, but it should not stretch, shear or squash.
+# As-rigid-as-possible (ARAP) deformation turns that wish into an energy and
+# minimizes it by alternating two steps you already know how to take: fitting
+# rotations (stage 02) and solving a sparse linear system.
+#
+# **Notation.** The rest mesh has vertices $v_i \in \mathbb R^d$ ($d = 2$ for planar
+# meshes, $d = 3$ for surfaces) and triangles $T$; the deformed mesh has the same
+# triangles and vertices $u_i$. The handles are a set $\mathcal H$ of vertices
+# with prescribed positions $u_h = \hat u_h$, $h \in \mathcal H$. In code `V` and
+# `U` are `(n, d)` arrays, `F` is `(f, 3)`, `handles` is an index array and
+# `handle_positions` is `(len(handles), d)`.
+#
+# **The energy.** Each vertex $i$ owns a *cell*: the triangles around it. The cell
+# should move rigidly, by a rotation $R_i \in SO(d)$ of its own. We measure how far
+# it is from that with every edge of every triangle of the cell, the "spokes"
+# (edges through $i$) and the "rims" (the opposite edges):
+#
+# $$
+# E(u, R) \;=\; \sum_i \; \sum_{T \ni i} \; \sum_{(j,k) \in T} c_{jk}
+# \,\bigl\| (u_j - u_k) - R_i (v_j - v_k) \bigr\|^2 .
+# $$
+#
+# ARAP deformation minimizes $E$ over the positions $u$ (with $u_h = \hat u_h$) and
+# the rotations $R$ together. Since the rotations are unknowns too, $E$ does not
+# care how the shape is oriented: a rigid motion of the whole mesh costs nothing.
+#
+# This notebook builds the pieces one function at a time: the weights $c_{jk}$,
+# the Laplacian, the local step (rotations), the energy, the global step (a linear
+# solve) and the loop that alternates them. Run the first cell, then fill in each
+# solution cell and run its tests.
+
+# %%
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+from starter import load_handles, load_mesh, plotting, shapes
+
+rng = np.random.default_rng(3)
+
+# %% [markdown]
+# ## 1 · The best rotation (from stage 02)
+#
+# The local step of ARAP is the problem of stage 02, once per vertex: given a
+# $d \times d$ matrix $S$, find the rotation maximizing $\operatorname{tr}(R S)$.
+# With the SVD $S = U \Sigma \tilde U^\top$ the answer is
+#
+# $$
+# R = \tilde U \, D \, U^\top, \qquad D = \operatorname{diag}\bigl(1, \dots, 1, \det(\tilde U U^\top)\bigr),
+# $$
+#
+# i.e. the best orthogonal matrix $\tilde U U^\top$, with the direction of the
+# smallest singular value flipped when that matrix is a reflection. ARAP calls it
+# for thousands of vertices per iteration, so make it accept a stack `(k, d, d)`
+# and work on the whole stack at once: `np.linalg.svd` and `np.linalg.det` both
+# broadcast over leading axes. Bring your solution from stage 02.
+
+# %% deformlab={"solution": "optimal_rotation"}
+
+# %% deformlab={"tests": "optimal_rotation", "points": 2}
+def _rot2(a):
+    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+
+
+# A reflection would give tr = 6; the best rotation flips the smallest singular direction.
+_S = np.diag([1.0, 2.0, -3.0])
+_R = optimal_rotation(_S)
+assert _R.shape == (3, 3), f"a (3, 3) input must give a (3, 3) rotation, got shape {_R.shape}"
+assert np.isclose(np.linalg.det(_R), 1.0), f"det R must be +1 (a rotation), got {np.linalg.det(_R):.6f}"
+assert np.isclose(np.trace(_R @ _S), 4.0), (
+    f"for S = diag(1, 2, -3) the best rotation gives tr(R S) = 4, got {np.trace(_R @ _S):.6f}"
+)
+
+_S = rng.normal(size=(50, 3, 3))
+_R = optimal_rotation(_S)
+assert _R.shape == (50, 3, 3), f"a (50, 3, 3) stack must give a (50, 3, 3) stack, got shape {_R.shape}"
+_err = np.abs(np.transpose(_R, (0, 2, 1)) @ _R - np.eye(3)).max(axis=(1, 2))
+assert _err.max() < 1e-10, f"R[{_err.argmax()}] is not orthogonal: max |RᵀR - I| = {_err.max():.2e}"
+_det = np.linalg.det(_R)
+assert np.allclose(_det, 1.0), f"R[{np.abs(_det - 1).argmax()}] has det {_det[np.abs(_det - 1).argmax()]:.3f}, not +1"
+# No other rotation may do better.
+_best = np.einsum("kij,kji->k", _R, _S)
+for _ in range(20):
+    _Q = optimal_rotation(rng.normal(size=(50, 3, 3)))
+    _other = np.einsum("kij,kji->k", _Q, _S)
+    _k = (_other - _best).argmax()
+    assert _other[_k] <= _best[_k] + 1e-9, (
+        f"for S[{_k}] another rotation gives a larger tr(R S) ({_other[_k]:.4f} > {_best[_k]:.4f}): is R transposed?"
+    )
+
+_S = _rot2(0.7) @ np.diag([3.0, 1.0])
+assert np.allclose(optimal_rotation(_S), _rot2(-0.7)), "for S = R(0.7)·diag(3, 1) the best rotation is R(-0.7)"
+
+# %% [markdown]
+# ## 2 · Cotangent weights
+#
+# Which weights $c_{jk}$? Take one triangle $T$ and suppose $u$ is linear on it,
+# $u(x) = J_T x + t$, so that every edge maps as $u_j - u_k = J_T (v_j - v_k)$.
+# We would like the triangle's share of the energy to be the integral
+# $\int_T \|J_T - R_i\|_F^2 \, dA = A_T \|J_T - R_i\|_F^2$: then the energy measures
+# the deformation of the *surface*, not of the particular triangulation, and it
+# does not change when a triangle is split in two. The weights that achieve this
+# come from the finite-element Laplacian. The gradient of the linear "hat"
+# function $\varphi_k$ of corner $k$ is $\nabla\varphi_k = e_k^\perp / (2A_T)$,
+# where $e_k$ is the edge opposite corner $k$ and $\perp$ turns it by 90° inside
+# the triangle. For the other two corners $j, k$ with the angle $\alpha_i$ between
+# their opposite edges,
+#
+# $$
+# \int_T \nabla\varphi_j \cdot \nabla\varphi_k \, dA
+# = \frac{e_j \cdot e_k}{4 A_T}
+# = \frac{-\|e_j\|\|e_k\|\cos\alpha_i}{2\,\|e_j\|\|e_k\|\sin\alpha_i}
+# = -\tfrac12 \cot\alpha_i ,
+# $$
+#
+# and summing over the rows of $J_T - R_i$ gives exactly
+#
+# $$
+# \sum_{(j,k) \in T} c_{jk} \,\| (u_j - u_k) - R_i (v_j - v_k) \|^2 = A_T \,\|J_T - R_i\|_F^2
+# \qquad\text{with}\qquad c_{jk} = \tfrac12 \cot \alpha_{jk},
+# $$
+#
+# where $\alpha_{jk}$ is the angle of $T$ *opposite* the edge $(j, k)$. Note the
+# factor ½, and note that the weight belongs to the triangle: an interior edge
+# gets one weight from each of its two triangles.
+#
+# **Your task.** `cotangent_weights(V, F)` returns the `(f, 3)` array
+# `C[t, k]` $= \tfrac12\cot$ of the angle at corner `k` of triangle `t`, the weight
+# of the opposite edge `(F[t, (k+1)%3], F[t, (k+2)%3])`. For the corner with edge
+# vectors $a, b$ leaving it, $\cot\alpha = \dfrac{a\cdot b}{\|a\times b\|}$ (in 2D,
+# $a\times b$ is the scalar $a_x b_y - a_y b_x$; take its absolute value so that
+# the orientation of the triangle does not matter). Obtuse angles give negative
+# weights; that is expected. Vectorize over all triangles and corners.
+
+# %% deformlab={"solution": "cotangent_weights"}
+
+# %% deformlab={"tests": "cotangent_weights", "points": 2}
+# A right triangle with angles 90°, arctan(1/2), arctan(2): ½cot = 0, 1, 1/4.
+_V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
+_F = np.array([[0, 1, 2]])
+_C = cotangent_weights(_V, _F)
+assert _C.shape == (1, 3), f"C must have one row per triangle and one column per corner, got shape {_C.shape}"
+assert np.allclose(_C, [[0.0, 1.0, 0.25]]), (
+    f"for the triangle (0,0), (2,0), (0,1) expected C = [[0, 1, 0.25]] (½cot of the angle at "
+    f"corners 0, 1, 2), got {np.round(_C, 6).tolist()}"
+    + (": that is cot, not ½cot" if np.allclose(_C, [[0.0, 2.0, 0.5]]) else "")
+)
+assert np.allclose(cotangent_weights(_V, _F[:, ::-1]), _C[:, ::-1]), (
+    "a clockwise triangle must get the same weights at the same corners (use |a × b|)"
+)
+# The same triangle rotated into 3D and scaled: cotangents only see angles.
+_Q = optimal_rotation(rng.normal(size=(3, 3)))
+_V3 = 5.0 * np.hstack([_V, np.zeros((3, 1))]) @ _Q.T
+assert np.allclose(cotangent_weights(_V3, _F), _C), "a rotated, scaled copy of a triangle in 3D must get the same weights"
+# An obtuse corner gets a negative weight.
+_C = cotangent_weights(np.array([[0.0, 0.0], [1.0, 0.0], [0.5, 0.1]]), _F)
+assert _C[0, 2] < 0 < min(_C[0, 0], _C[0, 1]), f"only the obtuse corner 2 should get a negative weight, got {_C.tolist()}"
+
+_V, _F = load_mesh("bar_coarse")
+_C = cotangent_weights(_V, _F)
+assert _C.shape == (len(_F), 3) and np.isfinite(_C).all(), f"expected finite weights of shape {(len(_F), 3)}"
+
+# %% [markdown]
+# ## 3 · The cotangent Laplacian
+#
+# Collecting the weights per edge gives the (sparse, symmetric) cotangent
+# Laplacian: $L_{jk} = \sum_{T \ni (j,k)} c^T_{jk}$ for every edge $(j, k)$, and
+# $L_{jj} = -\sum_{k \ne j} L_{jk}$, so every row sums to zero. With this sign
+# convention (libigl's `igl.cotmatrix`), $-L$ is the finite-element stiffness
+# matrix of §2: $f^\top(-L)f = \int \|\nabla f\|^2 \ge 0$, and
+#
+# $$
+# (-L u)_j = \sum_k L_{jk}\,(u_j - u_k) = \sum_{T \ni j} \sum_{(j,k) \in T} c^T_{jk}\,(u_j - u_k).
+# $$
+#
+# A good check of your indexing: the Laplacian of a *linear* function $f$ vanishes
+# at every interior vertex $j$ of a planar mesh (*linear precision*). Indeed
+# $(-Lf)_j = \int \nabla f \cdot \nabla\varphi_j \, dA$, $\nabla f$ is constant, and
+# $\int \nabla\varphi_j \, dA = 0$ for a hat function that vanishes on the boundary.
+#
+# **Your task.** `cotangent_laplacian(V, F)` returns the `(n, n)` sparse matrix.
+# Build it from `cotangent_weights` in one go: list the `3f` (row, column, value)
+# triples of the edges in both directions, let `scipy.sparse.coo_matrix` (or
+# `csr_matrix`) sum the duplicates, then subtract the row sums on the diagonal.
+
+# %% deformlab={"solution": "cotangent_laplacian"}
+
+# %% deformlab={"tests": "cotangent_laplacian", "points": 2}
+_V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
+_L = cotangent_laplacian(_V, np.array([[0, 1, 2]]))
+assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name__}"
+_expected = np.array([[-1.25, 0.25, 1.0], [0.25, -0.25, 0.0], [1.0, 0.0, -1.0]])
+assert np.allclose(_L.toarray(), _expected), (
+    f"for the triangle (0,0), (2,0), (0,1) expected L =\n{_expected}\ngot\n{np.round(_L.toarray(), 6)}"
+)
+
+
+def _interior_vertices(F, n):
+    # Boundary edges belong to one triangle only.
+    _e = np.sort(F[:, [[1, 2], [2, 0], [0, 1]]].reshape(-1, 2), axis=1)
+    _u, _count = np.unique(_e, axis=0, return_counts=True)
+    return np.setdiff1d(np.arange(n), _u[_count == 1].ravel())
+
+
+_V, _F = load_mesh("character")
+_L = sp.csr_matrix(cotangent_laplacian(_V, _F))
+assert _L.shape == (len(_V), len(_V)), f"L must be (n, n) = {(len(_V), len(_V))}, got {_L.shape}"
+assert abs(_L - _L.T).max() < 1e-12, "L must be symmetric"
+_rows = np.abs(np.asarray(_L.sum(axis=1))).ravel()
+assert _rows.max() < 1e-10, f"every row of L must sum to 0; row {_rows.argmax()} sums to {_rows.max():.3e}"
+_inner = _interior_vertices(_F, len(_V))
+_LV = np.abs(_L @ _V)[_inner].max(axis=1)
+assert _LV.max() < 1e-9, (
+    f"L applied to the (linear) coordinates must vanish at interior vertices; at vertex "
+    f"{_inner[_LV.argmax()]} it is {_LV.max():.3e}: is each weight on the edge opposite its corner?"
+)
+
+import igl as _igl  # noqa: E402
+
+_V, _F = load_mesh("bar_coarse")
+_diff = abs(sp.csr_matrix(cotangent_laplacian(_V, _F)) - _igl.cotmatrix(_V, _F)).max()
+assert _diff < 1e-10, f"on the 3D bar, L differs from igl.cotmatrix by up to {_diff:.3e}"
+
+# %% [markdown]
+# ## 4 · The local step: one rotation per cell
+#
+# Fix the positions $u$. Then $E$ is a sum of independent terms, one per vertex,
+# each depending on its own rotation only. Expand one edge term using
+# $\|R_i e\| = \|e\|$ and $e'^\top R_i e = \operatorname{tr}(R_i\, e\, e'^\top)$, where
+# $e = v_j - v_k$ and $e' = u_j - u_k$:
+#
+# $$
+# \sum_{T \ni i} \sum_{(j,k) \in T} c_{jk} \|e' - R_i e\|^2
+# = \text{const} - 2 \operatorname{tr}(R_i S_i),
+# \qquad
+# S_i = \sum_{T \ni i} \sum_{(j,k) \in T} c_{jk}\,(v_j - v_k)(u_j - u_k)^\top .
+# $$
+#
+# So the best $R_i$ maximizes $\operatorname{tr}(R_i S_i)$: it is
+# `optimal_rotation(S_i)`, one $d \times d$ SVD per vertex. This is stage 01–02's
+# shape matching of the cell's rest edges onto its deformed edges, weighted by
+# $c_{jk}$.
+#
+# **Your task.** `arap_covariances(V, U, F, C)` returns the `(n, d, d)` stack of
+# the $S_i$, with $e_{tk}$ the rest edge opposite corner $k$ of triangle $t$ and
+# $e'_{tk}$ the same edge in `U` (orient them the same way; the sign then cancels).
+# Every triangle contributes the *same* matrix $\sum_k C_{tk}\, e_{tk} e'^\top_{tk}$
+# to each of its three corners: its spokes for two corners, its rim for the
+# third. Compute these `(f, d, d)` triangle matrices with one `np.einsum`, then
+# accumulate them at the corners (`np.add.at`, or a sparse `n × f` incidence
+# matrix times the matrices flattened to `(f, d²)`).
+# `arap_rotations(V, U, F, C)` is then the local step itself.
+
+# %% deformlab={"solution": "arap_covariances"}
+
+# %% deformlab={"tests": "arap_covariances", "points": 2}
+# One triangle with hand-made weights: S = 0.1 e0 e0ᵀ + 0.2 e1 e1ᵀ + 0.3 e2 e2ᵀ for
+# e0 = v2 - v1 = (-1, 1), e1 = v0 - v2 = (0, -1), e2 = v1 - v0 = (1, 0).
+_V = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+_F = np.array([[0, 1, 2]])
+_C = np.array([[0.1, 0.2, 0.3]])
+_S = arap_covariances(_V, _V, _F, _C)
+_expected = np.array([[0.4, -0.1], [-0.1, 0.3]])
+assert _S.shape == (3, 2, 2), f"expected one (2, 2) matrix per vertex, shape (3, 2, 2), got {_S.shape}"
+for _i in range(3):
+    assert np.allclose(_S[_i], _expected), (
+        f"vertex {_i}: expected S = {_expected.tolist()} (every corner of a triangle gets all three "
+        f"of its edges), got {np.round(_S[_i], 6).tolist()}"
+    )
+
+_V, _F = load_mesh("bar_coarse")
+_C = cotangent_weights(_V, _F)
+_S0 = arap_covariances(_V, _V, _F, _C)
+_A = rng.normal(size=(3, 3))
+_S = arap_covariances(_V, _V @ _A.T + [1.0, -2.0, 0.5], _F, _C)
+assert np.allclose(_S, _S0 @ _A.T), (
+    "for U = V Aᵀ + t every deformed edge is A e, so S_i(V, U) = S_i(V, V) Aᵀ; this fails: "
+    + ("you computed Σ c e' eᵀ instead of Σ c e e'ᵀ" if np.allclose(_S, _A @ _S0) else "check the edges and weights")
+)
+# A vertex of two triangles sums both: on a square split along its diagonal (0, 2),
+# vertex 0 lies in both triangles, vertices 1 and 3 in one each.
+_V = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+_F = np.array([[0, 1, 2], [0, 2, 3]])
+_S = arap_covariances(_V, _V + rng.normal(scale=0.1, size=_V.shape), _F, rng.uniform(size=(2, 3)))
+assert np.allclose(_S[0], _S[1] + _S[3]) and np.allclose(_S[0], _S[2]), (
+    "on two triangles (0,1,2) and (0,2,3), S_0 = S_2 must be the sum of the triangles' matrices, S_1 + S_3"
+)
+
+# %% deformlab={"solution": "arap_rotations"}
+
+# %% deformlab={"tests": "arap_rotations", "points": 2}
+# A rigid motion is reproduced exactly by every cell.
+for _name in ("bar_coarse", "character"):
+    _V, _F = load_mesh(_name)
+    _d = _V.shape[1]
+    _Q = optimal_rotation(rng.normal(size=(_d, _d)))
+    _R = arap_rotations(_V, _V @ _Q.T + 0.3, _F, cotangent_weights(_V, _F))
+    assert _R.shape == (len(_V), _d, _d), f"{_name}: expected shape {(len(_V), _d, _d)}, got {_R.shape}"
+    _err = np.abs(_R - _Q).max(axis=(1, 2))
+    assert _err.max() < 1e-8, (
+        f"{_name}: U is V rotated by Q, so every R_i must be Q; vertex {_err.argmax()} is off by {_err.max():.2e}"
+        + (" (you return Qᵀ: R_i must maximize tr(R S_i))" if np.allclose(_R, _Q.T) else "")
+    )
+
+# On a real deformation each R_i beats any other rotation at its own cell.
+_V, _F = load_mesh("bar_coarse")
+_C = cotangent_weights(_V, _F)
+_U = _V + 0.05 * rng.normal(size=_V.shape)
+_R = arap_rotations(_V, _U, _F, _C)
+_S = arap_covariances(_V, _U, _F, _C)
+assert np.allclose(np.linalg.det(_R), 1.0), "every R_i must be a rotation (det +1)"
+_best = np.einsum("kij,kji->k", _R, _S)
+_other = np.einsum("kij,kji->k", optimal_rotation(rng.normal(size=_S.shape)), _S)
+assert (_other <= _best + 1e-9).all(), f"at vertex {(_other - _best).argmax()} a random rotation gives a larger tr(R S)"
+
+# %% [markdown]
+# ## 5 · The energy
+#
+# To watch the optimization we need $E(u, R)$ itself. Regroup it by triangles: the
+# edge opposite corner $k$ of triangle $t$ is measured once for each of the three
+# corners $i$ of $t$, against that corner's rotation,
+#
+# $$
+# E = \sum_t \sum_{k=0}^{2} C_{tk} \sum_{i \in t} \|e'_{tk} - R_i\, e_{tk}\|^2 .
+# $$
+#
+# **Your task.** `arap_energy(V, U, F, C, R)` returns this float for given `R`
+# (`(n, d, d)`). An array `(f, 3, 3)` indexed by (triangle, corner whose rotation,
+# edge) does it in one `einsum`. The energy is zero exactly when every cell moves
+# rigidly with its rotation.
+
+# %% deformlab={"solution": "arap_energy"}
+
+# %% deformlab={"tests": "arap_energy", "points": 2}
+_V = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+_F = np.array([[0, 1, 2]])
+_C = np.array([[0.1, 0.2, 0.3]])  # squared edge lengths 2, 1, 1: Σ_k C_k |e_k|² = 0.7
+_I = np.tile(np.eye(2), (3, 1, 1))
+_E = arap_energy(_V, _V, _F, _C, _I)
+assert np.isclose(_E, 0.0), f"the rest pose with R_i = I has zero energy, got {_E}"
+_E = arap_energy(_V, 2 * _V, _F, _C, _I)
+assert np.isclose(_E, 2.1), (
+    f"scaling the triangle by 2 with R_i = I: each of the 3 corners sees |2e - e|² per edge, "
+    f"E = 3 · 0.7 = 2.1, got {_E}" + (" (did you count each edge for one corner only?)" if np.isclose(_E, 0.7) else "")
+)
+_R = _I.copy()
+_R[0] = [[0.0, -1.0], [1.0, 0.0]]
+_E = arap_energy(_V, _V, _F, _C, _R)
+assert np.isclose(_E, 1.4), (
+    f"with U = V and vertex 0's cell rotated by 90°, only vertex 0's terms count, each |e - R e|² = 2|e|²: "
+    f"E = 2 · 0.7 = 1.4, got {_E}"
+)
+
+_V, _F = load_mesh("bar_coarse")
+_C = cotangent_weights(_V, _F)
+_Q = optimal_rotation(rng.normal(size=(3, 3)))
+_E = arap_energy(_V, _V @ _Q.T + 1.0, _F, _C, np.tile(_Q, (len(_V), 1, 1)))
+assert abs(_E) < 1e-9, f"a rigid motion with every R_i equal to its rotation has zero energy, got {_E:.3e}"
+_U = _V + 0.05 * rng.normal(size=_V.shape)
+_E_local = arap_energy(_V, _U, _F, _C, arap_rotations(_V, _U, _F, _C))
+_E_identity = arap_energy(_V, _U, _F, _C, np.tile(np.eye(3), (len(_V), 1, 1)))
+assert 0 < _E_local <= _E_identity, (
+    f"the local-step rotations must give an energy no larger than R_i = I: {_E_local:.6g} > {_E_identity:.6g}"
+)
+
+# %% [markdown]
+# ## 6 · The global step: one Laplacian solve
+#
+# Now fix the rotations. $E$ is a quadratic function of $u$, so its minimum is a
+# linear solve. Since the edge opposite corner $k$ of triangle $t$ is measured
+# against the three corner rotations, and
+# $\sum_{i \in t}\|x - y_i\|^2 = 3\|x - \bar y\|^2 + \text{const}$ for the mean
+# $\bar y$, only the triangle's mean rotation
+# $\bar R_t = \tfrac13 \sum_{i \in t} R_i$ matters for $u$:
+#
+# $$
+# E = 3 \sum_t \sum_{(a,b) \in t} c^t_{ab} \,\bigl\|(u_a - u_b) - \bar R_t (v_a - v_b)\bigr\|^2 + \text{const}.
+# $$
+#
+# Setting the gradient with respect to a free vertex $u_a$ to zero, the first
+# part is $(-L u)_a$ from §3:
+#
+# $$
+# -L\,U = B, \qquad
+# B_a = \sum_{t \ni a} \sum_{(a,b) \in t} c^t_{ab} \,\bar R_t\,(v_a - v_b)
+# $$
+#
+# (rows of the `(n, d)` arrays $U$ and $B$; all $d$ coordinates share the matrix).
+# The handles are not free: split the vertices into free ones $f$ and handles
+# $h$, move the known columns to the right, and solve only for the free rows:
+#
+# $$
+# (-L)_{ff}\, U_f = B_f + L_{fh}\, \hat U_h .
+# $$
+#
+# $-L$ is the stiffness matrix of §2: symmetric positive semi-definite, with the
+# constants as its null space. Once a handle pins every connected piece,
+# $(-L)_{ff}$ is positive definite. **It depends neither on $R$ nor on the handle
+# positions**, so it can be factorized once (`scipy.sparse.linalg.splu`, or
+# `scipy.sparse.linalg.factorized`, on a CSC matrix) and every iteration, and
+# every frame of an interactive session, costs only a back-substitution.
+#
+# **Your tasks.**
+# `arap_precompute(V, F, handles)` returns an object of your design (a `dict` or
+# `types.SimpleNamespace` works well) holding everything the iterations need:
+# the rest mesh, `C`, `L`, the handle and free indices, and the factorization.
+# `arap_global_step(data, R, handle_positions)` assembles $B$ for the given
+# rotations (vectorized over triangles, like the energy), solves, and returns the
+# full `(n, d)` array `U` with `U[handles] = handle_positions`.
+
+# %% deformlab={"solution": "arap_precompute"}
+
+# %% deformlab={"tests": "arap_precompute", "points": 2}
+_V, _F = load_mesh("bar_coarse")
+_ends = load_handles("bar_coarse")
+_h = np.concatenate([_ends["left"], _ends["right"]])
+_copies = (_V.copy(), _F.copy(), _h.copy())
+_data = arap_precompute(_V, _F, _h)
+assert all(np.array_equal(_a, _b) for _a, _b in zip((_V, _F, _h), _copies)), "arap_precompute must not modify V, F or handles"
+for _bad, _why in (([len(_V)], "out of range"), ([0, 0], "repeated"), ([], "empty")):
+    try:
+        arap_precompute(_V, _F, np.array(_bad, dtype=np.int64))
+    except ValueError:
+        pass
+    else:
+        raise AssertionError(f"handles {_bad} ({_why}) must raise ValueError")
+
+# %% deformlab={"solution": "arap_global_step"}
+
+# %% deformlab={"tests": "arap_global_step", "points": 3}
+_V, _F = load_mesh("bar_coarse")
+_ends = load_handles("bar_coarse")
+_h = np.concatenate([_ends["left"], _ends["right"]])
+_C = cotangent_weights(_V, _F)
+_data = arap_precompute(_V, _F, _h)
+_n = len(_V)
+
+_U = arap_global_step(_data, np.tile(np.eye(3), (_n, 1, 1)), _V[_h])
+assert _U.shape == _V.shape, f"U must have the shape of V, {_V.shape}, got {_U.shape}"
+_err = np.linalg.norm(_U - _V, axis=1)
+assert _err.max() < 1e-8, f"with R_i = I and the handles at rest the answer is V; vertex {_err.argmax()} is off by {_err.max():.2e}"
+
+_Q = optimal_rotation(rng.normal(size=(3, 3)))
+_t = np.array([0.5, -1.0, 2.0])
+_U = arap_global_step(_data, np.tile(_Q, (_n, 1, 1)), _V[_h] @ _Q.T + _t)
+_err = np.linalg.norm(_U - (_V @ _Q.T + _t), axis=1)
+assert _err.max() < 1e-8, f"with every R_i = Q and the handles moved rigidly by Q, U must be V moved rigidly; vertex {_err.argmax()} is off by {_err.max():.2e}"
+
+# Rotations from a real deformation and handles somewhere new.
+_R = arap_rotations(_V, _V + 0.1 * rng.normal(size=_V.shape), _F, _C)
+_target = _V[_h] + 0.2 * rng.normal(size=(len(_h), 3))
+_U = arap_global_step(_data, _R, _target)
+assert np.array_equal(_U[_h], _target), "U[handles] must equal handle_positions exactly"
+# E is quadratic in U, so at its constrained minimum E(U + D) = E(U - D) for any D that keeps the handles.
+_E = arap_energy(_V, _U, _F, _C, _R)
+for _ in range(3):
+    _D = 0.01 * rng.normal(size=_V.shape)
+    _D[_h] = 0.0
+    _plus, _minus = arap_energy(_V, _U + _D, _F, _C, _R), arap_energy(_V, _U - _D, _F, _C, _R)
+    assert min(_plus, _minus) >= _E - 1e-9 * _E and abs(_plus - _minus) <= 1e-7 * (_plus + _minus), (
+        f"U does not minimize the energy for the given rotations: moving the free vertices by ±D "
+        f"gives {_minus:.8g} and {_plus:.8g} against {_E:.8g} (check B: the mean rotation of each triangle, "
+        f"½cot weights, and the handle columns moved to the right-hand side)"
+    )
+
+# %% [markdown]
+# ## 7 · Alternating the two steps
+#
+# ARAP deformation alternates: rotations for the current positions (local), then
+# positions for those rotations (global). Write $u^k$ for the positions after
+# iteration $k$ and $R^{k+1}$ for the rotations fitted to them. **Neither step
+# can increase the energy**, because each is an *exact* minimization over its
+# own variables with the other ones held fixed, and the old values are among the
+# candidates:
+#
+# $$
+# E(u^{k+1}, R^{k+1}) \;\le\; E(u^k, R^{k+1}) \;\le\; E(u^k, R^k).
+# $$
+#
+# The first inequality is the global step (it minimizes over $u$ and $u^k$
+# satisfies the handle constraints), the second the local step (it minimizes
+# over $R$). The energy is bounded below by zero, so the sequence of energies
+# converges. It converges to a *local* minimum in general: $E$ is not convex in
+# $(u, R)$ together, and the answer depends on where we start.
+#
+# **Your task.** `arap_solve(data, handle_positions, U0=None, iterations=10)`:
+# start from `U0` (the rest pose `V` if `None`) with its handle rows replaced by
+# `handle_positions`, so that the first local step already sees the handles where
+# they belong; then run `iterations` local–global iterations and return the final
+# `U` and the list of energies, `energies[k]` being `arap_energy` after iteration
+# `k`'s global step **with the rotations that step used** (the middle term above
+# for the next iteration would be lower and would hide a bug in the global step).
+# On the ~2.5k-vertex bar, ten iterations should take well under a second.
+
+# %% deformlab={"solution": "arap_solve"}
+
+# %% deformlab={"tests": "arap_solve", "points": 3}
+_V, _F = load_mesh("bar_coarse")
+_ends = load_handles("bar_coarse")
+_h = np.concatenate([_ends["left"], _ends["right"]])
+_C = cotangent_weights(_V, _F)
+_data = arap_precompute(_V, _F, _h)
+# Twist the right end by 60° about the x-axis through its centroid.
+_c = _V[_ends["right"]].mean(axis=0)
+_a = np.pi / 3
+_Rx = np.array([[1, 0, 0], [0, np.cos(_a), -np.sin(_a)], [0, np.sin(_a), np.cos(_a)]])
+_target = np.vstack([_V[_ends["left"]], (_V[_ends["right"]] - _c) @ _Rx.T + _c])
+
+_U, _energies = arap_solve(_data, _target, iterations=6)
+assert len(_energies) == 6, f"iterations=6 must give 6 energies, got {len(_energies)}"
+assert np.array_equal(_U[_h], _target), "the handles must end exactly at handle_positions"
+_rise = np.diff(_energies)
+assert (_rise <= 1e-9 * _energies[0]).all(), (
+    f"the energy increased from iteration {_rise.argmax()} to {_rise.argmax() + 1} by {_rise.max():.3e}: "
+    "one of the steps does not minimize over its variables"
+)
+_U_rest, _ = arap_solve(_data, _target, U0=_V, iterations=6)
+assert np.allclose(_U, _U_rest), "U0=None must start from the rest pose V"
+
+# The start's handle rows are replaced before the first local step.
+_U0 = _V + 0.05 * rng.normal(size=_V.shape)
+_U0_fixed = _U0.copy()
+_U0_fixed[_h] = _target
+_U1, _E1 = arap_solve(_data, _target, U0=_U0, iterations=1)
+assert np.allclose(_U1, arap_solve(_data, _target, U0=_U0_fixed, iterations=1)[0]), (
+    "replace the handle rows of U0 by handle_positions before the first local step"
+)
+# energies[0] uses the rotations fitted to the start, not to the result.
+_R_used = arap_rotations(_V, _U0_fixed, _F, _C)
+_expected = arap_energy(_V, _U1, _F, _C, _R_used)
+_refit = arap_energy(_V, _U1, _F, _C, arap_rotations(_V, _U1, _F, _C))
+assert np.isclose(_E1[0], _expected, rtol=1e-9), (
+    f"energies[0] must be the energy of the new U with the rotations the global step used, {_expected:.8g}; "
+    f"got {_E1[0]:.8g}" + (" (you refitted the rotations to the new U)" if np.isclose(_E1[0], _refit, rtol=1e-9) else "")
+)
+_U2, _ = arap_solve(_data, _target, U0=_U0, iterations=2)
+assert np.allclose(_U2, arap_solve(_data, _target, U0=_U1, iterations=1)[0]), (
+    "two iterations must equal one iteration started from the result of the first"
+)
+
+# %% [markdown]
+# ## 8 · A twisted and a bent bar
+#
+# Time to use it. The bar's two end caps are the handles: the left one stays, the
+# right one is twisted by 90° about the bar's axis, or bent so that the bar
+# becomes a quarter circle (the end turns by 90° and moves to where a bent bar of
+# the same length would put it). As in an interactive session, the handle turns
+# gradually, in frames of 10°, and each frame's solve starts from the previous
+# frame's result (§9 shows why). The factorization is computed once for all
+# frames. The handles are marked in red.
+
+# %%
+V, F = load_mesh("bar")
+ends = load_handles("bar")
+left, right = ends["left"], ends["right"]
+handles = np.concatenate([left, right])
+
+
+def rotation(axis, angle):
+    """Rotation matrix by ``angle`` (radians) about the 3D vector ``axis`` (Rodrigues)."""
+    a = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    K = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * K @ K
+
+
+# The bar's axis runs from the left cap's centroid to the right cap's; the
+# bending direction is the coordinate axis most perpendicular to it.
+x_axis = V[right].mean(axis=0) - V[left].mean(axis=0)
+x_axis /= np.linalg.norm(x_axis)
+y_axis = np.eye(3)[np.argmin(np.abs(x_axis))]
+y_axis = y_axis - (y_axis @ x_axis) * x_axis
+y_axis /= np.linalg.norm(y_axis)
+
+
+def twist(V, left, right, angle):
+    """Handle positions: the left cap at rest, the right cap turned by ``angle`` about the bar's axis."""
+    center = V[right].mean(axis=0)
+    return np.vstack([V[left], (V[right] - center) @ rotation(x_axis, angle).T + center])
+
+
+def bend(V, left, right, angle):
+    """Handle positions bending the bar into a circular arc that turns by ``angle``."""
+    start, end = V[left].mean(axis=0), V[right].mean(axis=0)
+    radius = np.linalg.norm(end - start) / angle
+    end = start + radius * np.sin(angle) * x_axis + radius * (1.0 - np.cos(angle)) * y_axis
+    turned = (V[right] - V[right].mean(axis=0)) @ rotation(np.cross(x_axis, y_axis), angle).T + end
+    return np.vstack([V[left], turned])
+
+
+def animate(data, motion, degrees, iterations):
+    """Solve frame by frame, each frame starting from the previous one; returns the last U."""
+    U = None
+    for angle in np.radians(degrees):
+        U, _ = arap_solve(data, motion(data.V, left, right, angle), U0=U, iterations=iterations)
+    return U
+
+
+start = time.perf_counter()
+data = arap_precompute(V, F, handles)
+print(f"bar: {len(V)} vertices; arap_precompute {time.perf_counter() - start:.3f} s")
+start = time.perf_counter()
+arap_solve(data, twist(V, left, right, np.pi / 2), iterations=10)
+print(f"arap_solve, 10 iterations: {time.perf_counter() - start:.3f} s")
+
+U_twist = animate(data, twist, range(10, 91, 10), iterations=10)
+U_bend = animate(data, bend, range(10, 91, 10), iterations=10)
+plotting.show_deformation(V, U_twist, F, handles=handles, titles=("rest", "twisted by 90°"))
+plotting.show_deformation(V, U_bend, F, handles=handles, titles=("rest", "bent by 90°"))
+
+# %% [markdown]
+# ## 9 · Laplacian editing and the initial guess
+#
+# The global step with every $R_i = I$ is the classic *Laplacian editing*: it
+# keeps the Laplacian coordinates $L v$ of the rest shape as well as it can
+# while the handles move, $-L_{ff} U_f = -(L V)_f + L_{fh}\hat U_h$. It is a single
+# linear solve and it spreads the handles' motion smoothly, but it cannot rotate
+# the local details: a twisted or bent bar comes out sheared and squashed.
+#
+# **Your task.** `laplacian_editing(V, F, handles, handle_positions)` returns
+# that `U` (use your functions from above).
+
+# %% deformlab={"solution": "laplacian_editing"}
+
+# %% deformlab={"tests": "laplacian_editing", "points": 2}
+_V, _F = load_mesh("bar_coarse")
+_ends = load_handles("bar_coarse")
+_h = np.concatenate([_ends["left"], _ends["right"]])
+_target = _V[_h] + 0.3 * rng.normal(size=(len(_h), 3))
+_U = laplacian_editing(_V, _F, _h, _target)
+_expected = arap_global_step(arap_precompute(_V, _F, _h), np.tile(np.eye(3), (len(_V), 1, 1)), _target)
+_err = np.linalg.norm(_U - _expected, axis=1)
+assert _err.max() < 1e-8, f"Laplacian editing is the global step with every R_i = I; vertex {_err.argmax()} is off by {_err.max():.2e}"
+_t = np.array([1.0, 2.0, -3.0])
+assert np.allclose(laplacian_editing(_V, _F, _h, _V[_h] + _t), _V + _t), "translating every handle by t must translate the mesh by t"
+assert np.array_equal(_U[_h], _target), "U[handles] must equal handle_positions exactly"
+
+# %% [markdown]
+# ARAP finds a local minimum, and how many iterations it needs depends on where
+# it starts. Three initial guesses:
+#
+# * the **rest pose** (with the handle rows moved): the whole handle motion sits
+#   in the triangles next to the moved cap, and the rotations must spread from
+#   there along the bar;
+# * **Laplacian editing**: the translation is spread smoothly, but with every
+#   $R_i = I$ the cells are sheared rather than turned;
+# * the **previous frame**: in an interactive session or an animation the handles
+#   move a little per frame, and the last solution, rotations included, is
+#   nearly right. Here it is the 80° pose, itself solved frame by frame.
+#
+# To keep this quick we use the coarse bar, and count the iterations until the
+# energy is within 2 % of the lowest energy any of the runs reaches.
+
+# %%
+Vc, Fc = load_mesh("bar_coarse")
+ends_c = load_handles("bar_coarse")
+left_c, right_c = ends_c["left"], ends_c["right"]
+handles_c = np.concatenate([left_c, right_c])
+data_c = arap_precompute(Vc, Fc, handles_c)
+
+curves = {}
+for motion in (twist, bend):
+    target = motion(Vc, left_c, right_c, np.pi / 2)
+    previous = None
+    for angle in np.radians(range(10, 81, 10)):
+        previous, _ = arap_solve(data_c, motion(Vc, left_c, right_c, angle), U0=previous, iterations=10)
+    guesses = {
+        "rest pose": None,
+        "Laplacian editing": laplacian_editing(Vc, Fc, handles_c, target),
+        "previous frame (80°)": previous,
+    }
+    runs = {label: arap_solve(data_c, target, U0=U0, iterations=60)[1] for label, U0 in guesses.items()}
+    lowest = min(energies.min() for energies in runs.values())
+    print(f"{motion.__name__} by 90°, lowest energy {lowest:.4g}")
+    for label, energies in runs.items():
+        count = np.argmax(energies <= 1.02 * lowest) + 1 if (energies <= 1.02 * lowest).any() else "> 60"
+        print(f"    {label:21s} energy after one iteration {energies[0]:7.4g}, within 2 % after {count} iterations")
+    if motion is twist:
+        curves = runs
+plotting.show_energy(curves, title="ARAP energy of the coarse bar twisted by 90°")
+
+# %% [markdown]
+# The previous frame wins by far: its rotations already point the right way.
+# Laplacian editing starts much lower than the rest pose when the handle
+# *moves* (the bend), since the translation is already spread along the bar; but
+# its cells are not rotated, so for a twist, a pure rotation of the cap in
+# place, it hardly helps.
+#
+# ## 10 · Large rotations: one step or several
+#
+# A handle turned by 180° is at the same place as one turned by −180°: positions
+# do not say which way it went. Asked for in a single step from the rest pose,
+# the right cap is flipped across the axis at once, the first local steps see
+# cells sheared through the middle of the bar, and the iteration has to break the
+# tie by itself. Reached in steps of 30°, each solve starts from the previous
+# frame, which already turns the intended way. We measure the middle cross-section
+# of the result: how far it turned (fitting a 2D rotation with
+# `optimal_rotation`, as in stage 02) and how much it shrank.
+
+# %%
+def middle_section(U):
+    """Turn (degrees) and relative size of the cross-section half way along the coarse bar."""
+    middle = np.abs((Vc - Vc[handles_c].mean(axis=0)) @ x_axis) < 1e-9
+    in_plane = np.stack([y_axis, np.cross(x_axis, y_axis)], axis=1)  # (3, 2) basis of the cross-section
+    P = (Vc[middle] - Vc[middle].mean(axis=0)) @ in_plane
+    Q = (U[middle] - U[middle].mean(axis=0)) @ in_plane
+    R = optimal_rotation(P.T @ Q)
+    size = np.linalg.norm(Q, axis=1).mean() / np.linalg.norm(P, axis=1).mean()
+    return np.degrees(np.arctan2(R[1, 0], R[0, 0])), size
+
+
+one_step, E_one = arap_solve(data_c, twist(Vc, left_c, right_c, np.pi), iterations=200)
+frame = None
+for angle in np.radians(range(30, 181, 30)):
+    frame, E_steps = arap_solve(data_c, twist(Vc, left_c, right_c, angle), U0=frame, iterations=30)
+for label, U, energies in (("one step, 200 iterations", one_step, E_one), ("six steps of 30°, 30 iterations each", frame, E_steps)):
+    turn, size = middle_section(U)
+    print(f"180° twist in {label:38s}: energy {energies[-1]:.3g}; middle section turned {turn:+5.0f}°, size × {size:.2f}")
+plotting.show_meshes([(one_step, Fc), (frame, Fc)], titles=["180° in one step", "180° in six steps"])
+
+# %% [markdown]
+# In six steps the middle turns by about +90°, half the twist, as a twisted bar
+# should (it gets there as the last frame converges). In one step, nothing
+# tells the solver which way to turn: the problem is symmetric under turning
+# either way, so the middle hardly turns at all and pinches to about half its
+# size instead, much like the candy wrapper of stage 05. This is a different
+# local minimum, and its energy is even *lower*: the energy only sees the
+# surface, and nothing in it protects the volume inside the bar, so pinching the
+# neck is cheaper than twisting it. A lower energy is not a better answer to
+# what the user asked. Large rotations must be reached in steps, each starting
+# from the last.
+#
+# ## 11 · Coarse and fine meshes
+#
+# Finally, the same 90° twist on the coarse bar and on the bar (about five times
+# as many vertices), both from the rest pose.
+
+# %%
+curves = {}
+for name, data_m in (("bar_coarse", data_c), ("bar", data)):
+    Vm = data_m.V
+    ends_m = load_handles(name)
+    _, energies = arap_solve(data_m, twist(Vm, ends_m["left"], ends_m["right"], np.pi / 2), iterations=100)
+    print(f"{name:10s} {len(Vm):5d} vertices: energy after 10, 30, 100 iterations "
+          f"{energies[9]:.3g}, {energies[29]:.3g}, {energies[99]:.3g}")
+    curves[f"{name} ({len(Vm)} vertices)"] = energies
+plotting.show_energy(curves, title="ARAP energy, 90° twist, from the rest pose")
+
+# %% [markdown]
+# Two differences. The fine bar needs many more iterations: a local step only
+# sees one cell, so the rotation has to spread from the twisted cap along the bar
+# through the alternation, and a finer mesh has more cells for it to cross. And
+# the fine bar ends at a clearly *lower* energy: the same twist is cheaper on it,
+# so the fine bar is softer than the coarse one.
+#
+# **Question.** Why does the stiffness of ARAP depend on the size of the cells?
+# The ½cot weights were chosen so that in-plane deformations cost the same on
+# every mesh; what resists the twist of this (hollow) bar, and how does that
+# cost change when the cells get smaller?
+
+# %% [markdown] deformlab={"answer": "arap_cell_size", "points": 2}
+# Twisting the hollow bar warps its flat sides (a twisted strip becomes a saddle
+# surface): mostly bending, with little stretching. For the in-plane part the
+# ½cot weights make the energy approximate an integral (area × ‖J − R‖²) that
+# does not depend on the mesh. Bending, however, is only penalized because each
+# cell must follow a single rotation: on a bent surface the triangles of a cell
+# (its spokes and rims) lie in different tangent planes and one rotation cannot
+# fit them all. That misfit grows with the size of the cell relative to the
+# change of the normal across it, so the cost of a given bend shrinks as the
+# cells get smaller (here the energy of the same twist drops from about 1.1 to
+# 0.7 from bar_coarse to bar). ARAP on surfaces is therefore not
+# resolution-independent: coarse meshes are stiffer against bending and
+# twisting, fine meshes softer; the rotation field can vary faster on a finer
+# mesh.
+
+# %% [markdown]
+# **Question.** The energy curves above never go up. Explain why from the two
+# steps, and say what this does and does not guarantee about the shape you get.
+
+# %% [markdown] deformlab={"answer": "arap_monotone", "points": 2}
+# Each step minimizes E exactly over its own unknowns with the others fixed, and
+# the current values are feasible candidates: the local step can always keep the
+# old rotations and the global step can always keep the old positions (they
+# satisfy the handle constraints). So E(u^{k+1}, R^{k+1}) ≤ E(u^k, R^{k+1}) ≤
+# E(u^k, R^k), and since E ≥ 0 the energies converge. This guarantees neither the
+# global minimum nor the intended shape: E is not jointly convex in u and R, so
+# the iteration stops in a local minimum that depends on the start (the 180°
+# twist in one step pinches instead of twisting), and it says nothing about
+# speed: the decrease can become very slow (fine meshes, poor initial guesses).

@@ -1,0 +1,427 @@
+# ---
+# jupyter:
+#   jupytext:
+#     text_representation:
+#       extension: .py
+#       format_name: percent
+#   kernelspec:
+#     display_name: Python 3
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # 04 · Bounded biharmonic weights
+#
+# Linear blend skinning (stage 05) moves every vertex by a blend of the handles'
+# transformations, $u = \sum_j w_j(v)\, T_j [v; 1]$. The pose is only the $m$
+# transformations; everything the shape "knows" about how it bends is in the
+# **weight functions** $w_j$, one per handle, computed once on the rest shape.
+# What should they look like?
+#
+# * **interpolation:** $w_j = 1$ on handle $j$ and $0$ on every other handle, so
+#   that a handle moves exactly as the user says;
+# * **smoothness:** the deformation is as smooth as the weights, also *at* the
+#   handles;
+# * **partition of unity:** $\sum_j w_j = 1$, so that moving every handle by the
+#   same rigid motion moves the shape rigidly;
+# * **non-negativity and locality:** $0 \le w_j \le 1$, and $w_j$ is large only
+#   near handle $j$ and fades to zero where other handles take over;
+# * **shape awareness:** "near" is measured inside the shape, not through the
+#   air: a hand should not pull the leg next to it.
+#
+# Bounded biharmonic weights (BBW, Jacobson et al. 2011) get all of these from one
+# optimization: for each handle $j$,
+#
+# $$
+# w_j = \arg\min_{w} \; \tfrac12 \int_\Omega (\Delta w)^2 \, dA
+# \quad\text{subject to}\quad w|_{H_k} = \delta_{jk},\;\; 0 \le w \le 1,
+# $$
+#
+# followed by normalizing every vertex's weights to sum to one. This notebook
+# discretizes the biharmonic energy with the finite-element matrices of stage 03,
+# compares naive inverse-distance weights and unconstrained biharmonic weights,
+# and then adds the bounds.
+
+# %%
+import numpy as np
+import scipy.sparse as sp
+
+from starter import load_handles, load_mesh, plotting, shapes
+
+rng = np.random.default_rng(4)
+
+# %% [markdown]
+# ## 1 · The cotangent Laplacian (from stage 03)
+#
+# Bring `cotangent_weights` and `cotangent_laplacian` from stage 03. As a
+# reminder: `C[t, k]` $= \tfrac12\cot$ of the angle at corner `k` of triangle `t`,
+# weighting the opposite edge; $L_{jk} = \sum_{T \ni (j,k)} c^T_{jk}$ and
+# $L_{jj} = -\sum_{k\ne j} L_{jk}$. On a triangle mesh, $-L$ is the finite-element
+# *stiffness matrix* of piecewise-linear "hat" functions $\varphi_j$:
+# $-L_{jk} = \int_\Omega \nabla\varphi_j \cdot \nabla\varphi_k \, dA$.
+
+# %% deformlab={"solution": "cotangent_weights"}
+
+# %% deformlab={"tests": "cotangent_weights", "points": 2}
+_V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
+_F = np.array([[0, 1, 2]])
+_C = cotangent_weights(_V, _F)
+assert _C.shape == (1, 3), f"C must have one row per triangle and one column per corner, got shape {_C.shape}"
+assert np.allclose(_C, [[0.0, 1.0, 0.25]]), (
+    f"for the triangle (0,0), (2,0), (0,1) expected C = [[0, 1, 0.25]] (½cot of the angle at "
+    f"corners 0, 1, 2), got {np.round(_C, 6).tolist()}"
+)
+assert np.allclose(cotangent_weights(_V, _F[:, ::-1]), _C[:, ::-1]), (
+    "a clockwise triangle must get the same weights at the same corners (use |a × b|)"
+)
+_V3 = np.hstack([_V, np.zeros((3, 1))]) @ np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])
+assert np.allclose(cotangent_weights(3.0 * _V3, _F), _C), "a rotated, scaled copy of a triangle in 3D must get the same weights"
+
+# %% deformlab={"solution": "cotangent_laplacian"}
+
+# %% deformlab={"tests": "cotangent_laplacian", "points": 2}
+_V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
+_L = cotangent_laplacian(_V, np.array([[0, 1, 2]]))
+assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name__}"
+_expected = np.array([[-1.25, 0.25, 1.0], [0.25, -0.25, 0.0], [1.0, 0.0, -1.0]])
+assert np.allclose(_L.toarray(), _expected), (
+    f"for the triangle (0,0), (2,0), (0,1) expected L =\n{_expected}\ngot\n{np.round(_L.toarray(), 6)}"
+)
+_V, _F = load_mesh("character")
+_L = sp.csr_matrix(cotangent_laplacian(_V, _F))
+assert abs(_L - _L.T).max() < 1e-12, "L must be symmetric"
+_rows = np.abs(np.asarray(_L.sum(axis=1))).ravel()
+assert _rows.max() < 1e-10, f"every row of L must sum to 0; row {_rows.argmax()} sums to {_rows.max():.3e}"
+# Linear precision: L applied to the coordinates vanishes away from the boundary.
+_e = np.sort(_F[:, [[1, 2], [2, 0], [0, 1]]].reshape(-1, 2), axis=1)
+_u, _count = np.unique(_e, axis=0, return_counts=True)
+_inner = np.setdiff1d(np.arange(len(_V)), _u[_count == 1].ravel())
+_LV = np.abs(_L @ _V)[_inner].max(axis=1)
+assert _LV.max() < 1e-9, (
+    f"L applied to the (linear) coordinates must vanish at interior vertices; at vertex "
+    f"{_inner[_LV.argmax()]} it is {_LV.max():.3e}"
+)
+
+# %% [markdown]
+# ## 2 · The biharmonic energy
+#
+# To discretize $\int (\Delta w)^2$ we need $\Delta w$ *at the vertices*. The
+# Laplacian matrix gives an *integrated* quantity: $(L w)_i = \int \Delta w\,\varphi_i \, dA$
+# (up to boundary terms), an average of $\Delta w$ over the region around vertex
+# $i$ weighted by the hat function, whose integral is about the area $M_{ii}$ of
+# that region. The **mass matrix** $M$ turns one into the other: the pointwise
+# Laplacian is $M^{-1} L w$. With the lumped (diagonal, Voronoi-area) mass matrix,
+# integrating a squared function is $\int f^2 \approx f^\top M f$, so
+#
+# $$
+# \int_\Omega (\Delta w)^2 \, dA \;\approx\; (M^{-1} L w)^\top M \,(M^{-1} L w) \;=\; w^\top Q\, w,
+# \qquad Q = L\, M^{-1} L .
+# $$
+#
+# This is a *mixed* finite-element discretization: the fourth-order operator is
+# split into two second-order ones, so piecewise-linear elements suffice. $Q$ is
+# symmetric and positive semi-definite ($w^\top Q w = \|Lw\|^2_{M^{-1}}$), sparse
+# (two-ring neighbours), and its null space contains the constants. The boundary
+# conditions come for free: minimizing $w^\top Q w$ imposes the *natural* ones,
+# which let the weights leave the boundary at any angle (unlike $w = 0$ on the
+# boundary, which would pin the outline).
+#
+# Units are a good check: in 2D, $L$ is scale-invariant (cotangents only see
+# angles) while $M$ is an area. Scaling the shape by $s$ therefore scales $Q$ by
+# $s^{-2}$, as it must for $\int(\Delta w)^2\,dA$.
+#
+# **Your task.** `biharmonic_matrix(V, F)` returns the sparse $Q$, with
+# `M = igl.massmatrix(V, F)` (libigl's default, the Voronoi mass matrix) and your
+# `cotangent_laplacian`. $M$ is diagonal: invert its diagonal, do not call a
+# general inverse.
+
+# %% deformlab={"solution": "biharmonic_matrix"}
+
+# %% deformlab={"tests": "biharmonic_matrix", "points": 2}
+import igl as _igl  # noqa: E402
+
+_V, _F = load_mesh("character")
+_Q = sp.csr_matrix(biharmonic_matrix(_V, _F))
+assert _Q.shape == (len(_V), len(_V)), f"Q must be (n, n) = {(len(_V), len(_V))}, got {_Q.shape}"
+assert abs(_Q - _Q.T).max() < 1e-8 * abs(_Q).max(), "Q = L M⁻¹ L must be symmetric"
+_ones = np.abs(_Q @ np.ones(len(_V))).max()
+assert _ones < 1e-8 * abs(_Q).max(), f"constants must be in the null space of Q; |Q 1| reaches {_ones:.3e}"
+_x = rng.normal(size=len(_V))
+_Lx = sp.csr_matrix(cotangent_laplacian(_V, _F)) @ _x
+_expected = _Lx @ (_Lx / _igl.massmatrix(_V, _F).diagonal())
+assert np.isclose(_x @ _Q @ _x, _expected, rtol=1e-9), (
+    f"xᵀ Q x must equal (Lx)ᵀ M⁻¹ (Lx) = {_expected:.8g} with the Voronoi mass matrix, got {_x @ _Q @ _x:.8g}"
+)
+_ratio = (_x @ sp.csr_matrix(biharmonic_matrix(2.0 * _V, _F)) @ _x) / (_x @ _Q @ _x)
+assert np.isclose(_ratio, 0.25), (
+    f"scaling a 2D shape by 2 must scale Q by 1/4 (L is scale-invariant, M is an area); the ratio is {_ratio:.4g}"
+    + (" (did you forget M⁻¹?)" if np.isclose(_ratio, 1.0) else "")
+)
+
+# %% [markdown]
+# ## 3 · Handles as constraints
+#
+# A handle is a set of vertices: one vertex for a *point* handle, the vertices
+# along a segment for a *bone*, the vertices of a patch for a *region*. All the
+# weight functions are constrained on all the handle vertices at once: weight
+# $j$ is 1 on the vertices of handle $j$ and 0 on those of every other handle.
+# We store this as libigl does: `b`, the concatenation of the handles' vertex
+# indices, and `bc`, a `(len(b), m)` array whose row for a vertex of handle $j$
+# is the one-hot row $e_j$. Column $j$ of `bc` gives the values of $w_j$ at `b`.
+#
+# **Your task.** `handle_constraints(handles)` builds `(b, bc)` from a list of
+# index arrays, one per handle.
+
+# %% deformlab={"solution": "handle_constraints"}
+
+# %% deformlab={"tests": "handle_constraints", "points": 2}
+_b, _bc = handle_constraints([np.array([3]), np.array([5, 7]), np.array([1])])
+assert np.array_equal(_b, [3, 5, 7, 1]), f"b must concatenate the handles in order, [3, 5, 7, 1], got {np.asarray(_b).tolist()}"
+_expected = np.array([[1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+assert np.array_equal(_bc, _expected), (
+    f"bc must have one row per vertex of b and one column per handle, 1 in the column of the "
+    f"vertex's handle:\n{_expected}\ngot\n{np.asarray(_bc)}"
+)
+_regions = load_handles("character")["regions"]
+_b, _bc = handle_constraints(_regions)
+assert _bc.shape == (sum(len(_r) for _r in _regions), len(_regions)), f"for the 3 region handles bc must be {(len(_b), 3)}, got {_bc.shape}"
+assert np.array_equal(_bc.sum(axis=1), np.ones(len(_b))), "every row of bc must be one-hot"
+
+# %% [markdown]
+# ## 4 · A naive baseline: inverse-distance weights
+#
+# The simplest weights that interpolate and sum to one are Shepard's
+# inverse-distance weights for handle points $h_j$,
+#
+# $$
+# w_j(v) = \frac{\|v - h_j\|^{-p}}{\sum_k \|v - h_k\|^{-p}} ,
+# $$
+#
+# with $w_j(h_j) = 1$ as the limit. They are positive and a partition of unity,
+# but they have two flaws you can see in the picture below.
+#
+# * **Flat spots.** For $p > 1$, $w_j$ has zero gradient at *every* handle point:
+#   near its own handle it is flat at 1, near any other it is flat at 0. Each
+#   handle drags a little neighbourhood rigidly and the deformation concentrates in
+#   between; far from all handles every weight tends to $1/m$, so distant parts
+#   move with the average of all handles.
+# * **No shape awareness.** The distance is Euclidean, measured through the air:
+#   the left hand influences the left hip about as much as the belly, because it
+#   is about as close, though along the body it is much further.
+#
+# **Your task.** `inverse_distance_weights(V, handle_points, power=2)` returns the
+# `(n, m)` weights. Vertices closer than 1e-12 to a handle point would divide by
+# zero: give them that handle's one-hot row.
+
+# %% deformlab={"solution": "inverse_distance_weights"}
+
+# %% deformlab={"tests": "inverse_distance_weights", "points": 2}
+_W = inverse_distance_weights(np.array([[1.0, 0.0], [3.0, 0.0]]), np.array([[0.0, 0.0], [4.0, 0.0]]))
+_expected = np.array([[0.9, 0.1], [0.1, 0.9]])
+assert np.allclose(_W, _expected), (
+    f"points at distances (1, 3) and (3, 1) from two handles, power 2: weights ∝ (1, 1/9), i.e. "
+    f"{_expected.tolist()}, got {np.round(_W, 6).tolist()}"
+)
+_W = inverse_distance_weights(np.array([[1.0, 0.0]]), np.array([[0.0, 0.0], [3.0, 0.0]]), power=1)
+assert np.allclose(_W, [[2 / 3, 1 / 3]]), f"power 1 at distances (1, 2): weights (2/3, 1/3), got {np.round(_W, 6).tolist()}"
+
+_V, _F = load_mesh("character")
+_points = load_handles("character")["points"]
+_W = inverse_distance_weights(_V, _V[_points])
+assert _W.shape == (len(_V), len(_points)), f"expected shape {(len(_V), len(_points))}, got {_W.shape}"
+assert np.isfinite(_W).all(), "weights must be finite, also at the handle points themselves"
+assert np.allclose(_W.sum(axis=1), 1.0), "every row must sum to 1"
+assert np.allclose(_W[_points], np.eye(len(_points))), "a vertex at a handle point must get that handle's one-hot row"
+
+# %%
+V, F = load_mesh("character")
+character_handles = load_handles("character")
+points = character_handles["points"]  # head top, left hand, right hand, left foot, right foot
+W_idw = inverse_distance_weights(V, V[points])
+plotting.show_weights(V, F, W_idw, handles=points)
+
+# %% [markdown]
+# ## 5 · Unconstrained biharmonic weights
+#
+# Now minimize the biharmonic energy with only the interpolation constraints.
+# Split the vertices into the constrained ones `b` and the free ones `f`; for a
+# weight column $w$ with $w_b$ fixed,
+#
+# $$
+# \tfrac12 w^\top Q w = \tfrac12 w_f^\top Q_{ff} w_f + w_f^\top Q_{fb} w_b + \text{const}
+# \quad\Longrightarrow\quad
+# Q_{ff}\, W_f = -Q_{fb}\, \mathrm{bc} ,
+# $$
+#
+# one sparse solve with $m$ right-hand sides ($Q_{ff}$ is positive definite once
+# a handle pins the shape). These weights already form a partition of unity,
+# with no normalization: the row sums $s = W\mathbf 1$ solve the same system with
+# right-hand side $-Q_{fb}\mathbf 1$ and $s_b = 1$, and the constant 1 is that
+# solution because $Q\mathbf 1 = 0$. They are smooth and shape-aware (the
+# energy lives on the mesh). But they are **not positive**: a fourth-order
+# problem has no maximum principle, and the minimizer overshoots around the
+# handles like a bent elastic beam, with negative *lobes* where it swings back.
+
+# %% deformlab={"solution": "unconstrained_biharmonic_weights"}
+
+# %% deformlab={"tests": "unconstrained_biharmonic_weights", "points": 3}
+_V, _F = load_mesh("character")
+_handles = [np.array([_p]) for _p in load_handles("character")["points"]]
+_b, _bc = handle_constraints(_handles)
+_W = unconstrained_biharmonic_weights(_V, _F, _b, _bc)
+assert _W.shape == (len(_V), len(_handles)), f"expected shape {(len(_V), len(_handles))}, got {_W.shape}"
+assert np.allclose(_W[_b], _bc), "W[b] must equal bc"
+_free = np.setdiff1d(np.arange(len(_V)), _b)
+_Q = sp.csr_matrix(biharmonic_matrix(_V, _F))
+_residual = np.abs((_Q @ _W)[_free]).max()
+assert _residual < 1e-8 * abs(_Q).max(), (
+    f"at the free vertices the gradient Q W must vanish (the weights minimize ½ wᵀQw); it reaches {_residual:.3e}"
+)
+_sums = np.abs(_W.sum(axis=1) - 1.0).max()
+assert _sums < 1e-8, f"unconstrained biharmonic weights sum to 1 by themselves; off by up to {_sums:.3e}"
+assert _W.min() < -1e-3, "these weights should go negative somewhere (the lobes); did you clip or bound them?"
+
+# %% [markdown]
+# ## 6 · Bounded biharmonic weights
+#
+# Why do negative weights matter? Translate handle $j$ by $t$ and leave the
+# others: every vertex moves by $w_j(v)\,t$. Where $w_j < 0$ the vertex moves
+# **against** the handle: pull the right hand up and a patch of the left leg
+# moves down. Weights above 1 overshoot the same way. BBW adds the bounds to
+# each handle's problem,
+#
+# $$
+# \min_{w}\; \tfrac12 w^\top Q w
+# \quad\text{subject to}\quad w_b = \mathrm{bc}_{:,j}, \quad 0 \le w \le 1 ,
+# $$
+#
+# a convex quadratic program with simple bounds. Clipping the unconstrained
+# weights to $[0, 1]$ is *not* its solution: cutting off a lobe leaves a kink,
+# and the minimizer instead re-arranges the whole weight function so that it
+# meets the bound smoothly. At the minimum, the KKT conditions say: where
+# $0 < w_i < 1$ the gradient $(Qw)_i$ vanishes; where $w_i = 0$ it is
+# $\ge 0$ (lowering the energy would need a negative weight); where $w_i = 1$ it
+# is $\le 0$.
+#
+# **Solving the QP.** An active-set method solves it with a few sparse solves:
+# guess the set of free vertices that sit at a bound, fix them at their bound
+# like extra constraints, solve the equality-constrained problem exactly as in
+# §5, then add every vertex that violates a bound and release every bound vertex
+# whose gradient has the wrong sign (its multiplier says the energy would drop by
+# moving it inside); repeat until nothing changes. (Do not call
+# `igl.active_set`: its Python binding ignores the bounds.)
+#
+# **Normalization.** Each handle's problem is solved separately, so the bounded
+# weights no longer sum to exactly one; dividing every row by its sum restores
+# the partition of unity (and keeps the bounds and the interpolation). That is
+# what makes LBS reproduce rigid motions: if every $T_j = T$ then
+# $u = \sum_j w_j T[v;1] = T[v;1]$.
+#
+# **Your task.** `bbw(V, F, b, bc)` returns the normalized `(n, m)` weights, within
+# `[0, 1]` and summing to one to 1e-9.
+
+# %% deformlab={"solution": "bbw"}
+
+# %% deformlab={"tests": "bbw", "points": 4}
+_V, _F = load_mesh("character")
+_handles = [np.array([_p]) for _p in load_handles("character")["points"]]
+_b, _bc = handle_constraints(_handles)
+_W = bbw(_V, _F, _b, _bc)
+assert _W.shape == (len(_V), len(_handles)), f"expected shape {(len(_V), len(_handles))}, got {_W.shape}"
+assert np.allclose(_W[_b], _bc), "W[b] must equal bc"
+assert _W.min() >= -1e-9 and _W.max() <= 1 + 1e-9, (
+    f"weights must lie in [0, 1], got values in [{_W.min():.3e}, {_W.max():.6f}]"
+)
+_sums = np.abs(_W.sum(axis=1) - 1.0)
+assert _sums.max() < 1e-9, f"every row must sum to 1 (normalize!); row {_sums.argmax()} sums to {_W[_sums.argmax()].sum():.6f}"
+
+# With two handles, w_2 = 1 - w_1 solves the second problem, so the rows already sum
+# to one and column 0 is the bounded minimizer itself. Clipping the unconstrained
+# weights gives a feasible candidate; the minimizer must have a clearly lower energy.
+_b, _bc = handle_constraints([_handles[1], _handles[4]])  # left hand, right foot
+_w = bbw(_V, _F, _b, _bc)[:, 0]
+_Q = sp.csr_matrix(biharmonic_matrix(_V, _F))
+_clipped = np.clip(unconstrained_biharmonic_weights(_V, _F, _b, _bc)[:, 0], 0.0, 1.0)
+_E, _E_clipped = 0.5 * _w @ _Q @ _w, 0.5 * _clipped @ _Q @ _clipped
+assert _E < 0.99 * _E_clipped, (
+    f"the bounded weights must minimize ½ wᵀQw: their energy {_E:.6g} is not below that of the clipped "
+    f"unconstrained weights, {_E_clipped:.6g} (clipping is feasible but not optimal: solve the bounded problem)"
+)
+
+# %% [markdown]
+# ## 7 · Comparing the weights
+#
+# First the point handles. The three panels show the weight of the left foot
+# for inverse-distance, unconstrained biharmonic and bounded biharmonic weights
+# (in this order; magenta marks values below 0, red above 1), then all five BBW
+# weights. Look for the flat spot of the inverse-distance weight around its
+# handle and how it spreads evenly over the body; the unconstrained weight
+# overshooting above 1 around its own handle and dipping below 0 around the
+# others; and how BBW keeps the smoothness without either.
+
+# %%
+b, bc = handle_constraints([np.array([p]) for p in points])
+W_unconstrained = unconstrained_biharmonic_weights(V, F, b, bc)
+W_bbw = bbw(V, F, b, bc)
+for label, W in (("inverse distance", W_idw), ("unconstrained biharmonic", W_unconstrained), ("bounded biharmonic", W_bbw)):
+    print(f"{label:26s} weights in [{W.min():+.3f}, {W.max():.3f}], "
+          f"{np.mean((W < -1e-9).any(axis=1)):5.1%} of the vertices have a negative weight")
+foot = 3
+plotting.show_weights(V, F, np.stack([W_idw[:, foot], W_unconstrained[:, foot], W_bbw[:, foot]], axis=1), handles=points)
+plotting.show_weights(V, F, W_bbw, handles=[np.array([p]) for p in points])
+
+# %% [markdown]
+# Larger handles constrain more and the lobes grow. With the three region
+# handles (head, left foot, right foot) the unconstrained weight of the left
+# foot dips to about −0.1 over the whole right arm. Pull the left foot to the
+# left and keep the other two handles: with translations only, every vertex
+# moves by $w_{	ext{foot}}(v)\,t$, coloured below by that weight.
+
+# %%
+regions = character_handles["regions"]
+b, bc = handle_constraints(regions)
+foot = 1
+w_unconstrained = unconstrained_biharmonic_weights(V, F, b, bc)[:, foot]
+w_bbw = bbw(V, F, b, bc)[:, foot]
+t = np.array([-0.8, 0.0])
+right_hand = points[2]
+for label, w in (("unconstrained", w_unconstrained), ("bounded", w_bbw)):
+    print(f"{label:13s}: the right hand moves by {round(w[right_hand] * t[0], 3) + 0.0:+.3f} in x while the foot moves by {t[0]:+.1f}")
+plotting.show_meshes(
+    [(V + w_unconstrained[:, None] * t, F, w_unconstrained), (V + w_bbw[:, None] * t, F, w_bbw)],
+    titles=["unconstrained biharmonic", "bounded biharmonic"],
+)
+
+# %% [markdown]
+# **Question.** Why do the unconstrained biharmonic weights go negative, and what
+# does that do to a deformation? Why does clipping them to $[0, 1]$ not give the
+# bounded biharmonic weights?
+
+# %% [markdown] deformlab={"answer": "negative_lobes", "points": 2}
+# The biharmonic equation is fourth order and has no maximum principle (the
+# harmonic, second-order one does): minimizing ∫(Δw)² prefers small curvature
+# change, so a weight that falls from 1 at its handle keeps its slope and
+# overshoots below 0 before it is pulled back to 0 at the other handles, like a
+# bent beam. With w_j < 0 a vertex moves by w_j t, against the direction the
+# handle moved (and with w_j > 1 it moves further than the handle), so pulling
+# one handle makes unrelated parts of the shape move the opposite way. Clipping
+# cuts the lobes off but leaves kinks (a discontinuous gradient) at the cut and
+# the rest of the function unchanged; it is feasible but not optimal: where
+# 0 < w < 1 its gradient Qw is not zero, so the energy can still be lowered. The
+# bounded QP re-shapes the whole weight function to meet the bound smoothly.
+
+# %% [markdown]
+# **Question.** Inverse-distance weights are positive, interpolate and sum to
+# one. Name the two flaws visible in the pictures and explain where each comes
+# from.
+
+# %% [markdown] deformlab={"answer": "inverse_distance", "points": 2}
+# Flat spots: for p > 1 the weight ‖v − h_j‖^{-p} normalized has zero gradient at
+# every handle point, so each handle drags a small neighbourhood rigidly and all
+# the stretching is squeezed in between; far from the handles every weight tends
+# to 1/m, so distant parts move with the average of all handles. No shape
+# awareness: the distance is Euclidean, through the air, so a handle influences
+# everything that is close in the plane, e.g. the left hand moves the left hip
+# and thigh although along the body they are far away; biharmonic weights live
+# on the mesh and only spread through the shape.

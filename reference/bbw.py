@@ -1,0 +1,386 @@
+"""Stage 04, bounded biharmonic weights: smooth, bounded skinning weights per handle."""
+
+import igl
+import numpy as np
+import scipy
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from reference.arap import cotangent_laplacian
+from starter.validation import (
+    as_faces,
+    as_float_array,
+    as_handles,
+    as_points,
+    as_vertices,
+    check_no_degenerate_triangles,
+)
+
+
+def biharmonic_matrix(V, F):
+    """Discrete biharmonic energy matrix ``Q = L M⁻¹ L``.
+
+    ``½ wᵀ Q w`` approximates ``½ ∫ (Δw)²``: ``L`` is the cotangent Laplacian
+    and ``M`` the Voronoi (libigl default) lumped mass matrix.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions, ``d`` in {2, 3}; every vertex is used by a triangle.
+    F : (f, 3) array_like of int
+        Triangles indexing ``V``, none of zero area.
+
+    Returns
+    -------
+    Q : (n, n) scipy.sparse.csc_matrix
+        Symmetric positive semi-definite; constants are in its null space.
+    """
+    V = as_vertices(V)
+    F = as_faces(F, len(V))
+    check_no_degenerate_triangles(V, F)
+    used = np.zeros(len(V), dtype=bool)
+    used[F.ravel()] = True
+    if not used.all():
+        i = int(np.flatnonzero(~used)[0])
+        # an unreferenced vertex has zero mass, so M⁻¹ does not exist
+        raise ValueError(f"V has an unreferenced vertex: V[{i}] is used by no triangle in F")
+    L = sp.csc_matrix(cotangent_laplacian(V, F))
+    M = igl.massmatrix(V, F)
+    return sp.csc_matrix(L @ sp.diags(1.0 / M.diagonal()) @ L)
+
+
+def handle_constraints(handles):
+    """Boundary conditions ``(b, bc)`` of skinning weights for a set of handles.
+
+    Parameters
+    ----------
+    handles : list of array_like of int
+        One entry per handle: a single vertex index for a point handle, several
+        for a bone or a region. No vertex may belong to two handles.
+
+    Returns
+    -------
+    b : (k,) numpy.ndarray of int64
+        The handles' vertices, concatenated in order.
+    bc : (k, m) numpy.ndarray
+        ``bc[i, j] = 1`` if ``b[i]`` belongs to handle ``j``, else 0; ``m = len(handles)``.
+    """
+    try:
+        parts = [np.atleast_1d(np.asarray(h)) for h in handles]
+    except TypeError:
+        raise ValueError(
+            f"handles must be a list of integer arrays, one per handle, got {type(handles).__name__}"
+        ) from None
+    if not parts:
+        raise ValueError("handles is empty: at least one handle is needed")
+    for j, h in enumerate(parts):
+        if h.ndim != 1 or h.dtype == bool or not np.issubdtype(h.dtype, np.integer):
+            raise ValueError(
+                f"handles[{j}] must be a 1-D integer array of vertex indices, "
+                f"got shape {h.shape} and dtype {h.dtype}"
+            )
+        if h.size == 0:
+            raise ValueError(f"handles[{j}] is empty: every handle needs at least one vertex")
+        if (h < 0).any():
+            raise ValueError(f"handles[{j}] has a negative vertex index {int(h[h < 0][0])}")
+    b = np.concatenate(parts).astype(np.int64)
+    owner = np.repeat(np.arange(len(parts)), [len(h) for h in parts])
+    uniq, first, counts = np.unique(b, return_index=True, return_counts=True)
+    if (counts > 1).any():
+        v = int(uniq[counts > 1][0])
+        j, k = owner[b == v][:2]
+        raise ValueError(f"handles must not share vertices: vertex {v} is in handles[{j}] and handles[{k}]")
+    bc = np.zeros((len(b), len(parts)))
+    bc[np.arange(len(b)), owner] = 1.0
+    return b, bc
+
+
+def inverse_distance_weights(V, handle_points, power=2):
+    """Shepard (inverse-distance) weights of every vertex for a set of handle points.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions, ``d`` in {2, 3}.
+    handle_points : (m, d) array_like of float
+        Distinct handle positions (more than 2e-12 apart, so no vertex is
+        within 1e-12 of two of them).
+    power : float, optional
+        Positive fall-off exponent.
+
+    Returns
+    -------
+    W : (n, m) numpy.ndarray
+        ``W[i, j] ∝ ‖v_i - h_j‖^-power``, rows summing to 1; a vertex within
+        1e-12 of a handle point gets that handle's one-hot row.
+    """
+    V = as_vertices(V)
+    H = as_points(handle_points, "handle_points", dims=(V.shape[1],))
+    p = float(as_float_array(power, "power", ndim=0))
+    if not p > 0:
+        raise ValueError(f"power must be positive, got {p}")
+    gaps = np.linalg.norm(H[:, None] - H[None], axis=2)
+    close = np.argwhere(np.triu(gaps <= 2e-12, k=1))
+    if len(close):
+        i, j = close[0]
+        raise ValueError(
+            f"handle_points must be distinct: rows {i} and {j} are {gaps[i, j]:.3g} apart "
+            f"(at most 2e-12), so the weights near them are undefined"
+        )
+    D = np.linalg.norm(V[:, None] - H[None], axis=2)
+    nearest = D.argmin(axis=1)
+    d_min = D[np.arange(len(V)), nearest]
+    on_handle = d_min <= 1e-12
+    # (d_min / d)^p is d^-p rescaled per row: it lies in [0, 1], so large
+    # powers or tiny distances cannot overflow
+    W = (d_min[:, None] / np.where(on_handle[:, None], 1.0, D)) ** p
+    W[on_handle] = 0.0
+    W[on_handle, nearest[on_handle]] = 1.0
+    return W / W.sum(axis=1, keepdims=True)
+
+
+def unconstrained_biharmonic_weights(V, F, b, bc):
+    """Biharmonic weights without bounds: ``argmin ½ tr(Wᵀ Q W)`` s.t. ``W[b] = bc``.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions, ``d`` in {2, 3}.
+    F : (f, 3) array_like of int
+        Triangles indexing ``V``.
+    b : (k,) array_like of int
+        Distinct constrained vertices; every connected component of the mesh
+        needs at least one.
+    bc : (k, m) array_like of float
+        Values of the ``m`` weight functions at ``b``.
+
+    Returns
+    -------
+    W : (n, m) numpy.ndarray
+        ``W[b] = bc``; ``Q W = 0`` on the other rows, ``Q = biharmonic_matrix(V, F)``.
+    """
+    V = as_vertices(V)
+    F = as_faces(F, len(V))
+    b = as_handles(b, len(V), "b")
+    bc = as_float_array(bc, "bc", ndim=2)
+    if bc.shape[0] != len(b) or bc.shape[1] == 0:
+        raise ValueError(
+            f"bc must have shape ({len(b)}, m) with m >= 1: one row per vertex in b "
+            f"and one column per weight function, got {bc.shape}"
+        )
+    Q = biharmonic_matrix(V, F)
+    n = len(V)
+    adjacency = sp.coo_matrix((np.ones(F.size), (F.ravel(), np.roll(F, 1, axis=1).ravel())), shape=(n, n))
+    _, component = sp.csgraph.connected_components(adjacency, directed=False)
+    unconstrained = np.setdiff1d(component, component[b])
+    if unconstrained.size:
+        i = int(np.flatnonzero(component == unconstrained[0])[0])
+        raise ValueError(
+            f"b must contain a vertex of every connected component of the mesh: "
+            f"the component of vertex {i} has none, so its weights are undetermined"
+        )
+    free = np.setdiff1d(np.arange(n), b)
+    W = np.zeros((n, bc.shape[1]))
+    W[b] = bc
+    if free.size:
+        Q_free = Q[free]
+        # Q is symmetric positive definite on the free vertices: symmetric
+        # mode with diagonal pivots factors it far faster than partial pivoting
+        lu = spla.splu(
+            Q_free[:, free].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+        W[free] = lu.solve(-(Q_free[:, b] @ bc))
+    return W
+
+
+def bbw(V, F, b, bc):
+    """Bounded biharmonic weights (Jacobson et al. 2011), normalized.
+
+    For each handle ``j`` the weights minimize ``½ wᵀ Q w`` subject to
+    ``w[b] = bc[:, j]`` and ``0 ≤ w ≤ 1`` (``Q = biharmonic_matrix(V, F)``);
+    the rows are then divided by their sums.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions, ``d`` in {2, 3}.
+    F : (f, 3) array_like of int
+        Triangles indexing ``V``.
+    b : (k,) array_like of int
+        Distinct constrained vertices; every connected component of the mesh
+        needs at least one.
+    bc : (k, m) array_like of float
+        Values in ``[0, 1]`` of the ``m`` weight functions at ``b``, each row
+        with a positive sum (e.g. from ``handle_constraints``).
+
+    Returns
+    -------
+    W : (n, m) numpy.ndarray
+        ``0 ≤ W ≤ 1``, rows summing to 1, ``W[b] = bc`` with its rows normalized.
+
+    Raises
+    ------
+    ValueError
+        On malformed input.
+    RuntimeError
+        If the active-set solver does not converge (it always should: the
+        problem is a strictly convex box-constrained quadratic program).
+    """
+    V = as_vertices(V)
+    F = as_faces(F, len(V))
+    b = as_handles(b, len(V), "b")
+    bc = as_float_array(bc, "bc", ndim=2)
+    if bc.shape[0] != len(b) or bc.shape[1] == 0:
+        raise ValueError(
+            f"bc must have shape ({len(b)}, m) with m >= 1: one row per vertex in b "
+            f"and one column per handle, got {bc.shape}"
+        )
+    if (bc < 0).any() or (bc > 1).any():
+        i, j = np.argwhere((bc < 0) | (bc > 1))[0]
+        raise ValueError(f"bc must lie in [0, 1] (the weights are bounded), got bc[{i}, {j}] = {bc[i, j]}")
+    if (bc.sum(axis=1) <= 0).any():
+        i = int(np.flatnonzero(bc.sum(axis=1) <= 0)[0])
+        raise ValueError(f"bc must have rows with a positive sum (they are normalized), row {i} is all zeros")
+    Q = biharmonic_matrix(V, F)
+    n, m = len(V), bc.shape[1]
+    adjacency = sp.coo_matrix((np.ones(F.size), (F.ravel(), np.roll(F, 1, axis=1).ravel())), shape=(n, n))
+    _, component = sp.csgraph.connected_components(adjacency, directed=False)
+    unconstrained = np.setdiff1d(component, component[b])
+    if unconstrained.size:
+        i = int(np.flatnonzero(component == unconstrained[0])[0])
+        raise ValueError(
+            f"b must contain a vertex of every connected component of the mesh: "
+            f"the component of vertex {i} has none, so its weights are undetermined"
+        )
+
+    # How: the unconstrained minimizer leaves [0, 1] in a few regions (its
+    # negative lobes and overshoots), nearly the same ones for every handle as
+    # the unconstrained weights sum to one. Ordering those vertices, C, last in
+    # a sparse factorization of Q makes its trailing block the Schur complement
+    # K of Q onto C, so each handle's problem becomes a small dense one on C,
+    # solved exactly by block principal pivoting (box_qp) with one dense
+    # Cholesky per step. If the weights then leave [0, 1] outside C, C grows
+    # and the solve repeats. When C is large, the pivoting runs on the sparse
+    # system instead, one sparse factorization per step.
+    tol_x = 1e-11
+    # SymmetricMode with diagonal pivots: the matrices are symmetric positive
+    # definite, and SuperLU factors them far faster this way than with pivoting
+    symmetric = {"diag_pivot_thresh": 0.0, "options": {"SymmetricMode": True}}
+
+    def box_qp(K, r, lower, upper):
+        """Minimize ``½ yᵀ K y - rᵀ y`` over ``0 ≤ y ≤ 1``, ``K`` SPD ``(k, k)``.
+
+        ``K`` is a dense array or a sparse matrix; ``r`` is ``(k,)``, ``lower``
+        and ``upper`` ``(k,)`` bool: the initial active sets (``y = 0``, ``y = 1``).
+        Block principal pivoting (primal-dual active sets): solve the equality
+        problem with the current active sets, then move every infeasible
+        variable across: a free one out of bounds, an active one whose
+        multiplier has the wrong sign. That usually converges in a few dozen
+        steps but can cycle; once an active set repeats, only the last
+        infeasible variable moves (Murty's rule), which cannot cycle.
+
+        Returns ``(nu, lower, upper)``: the multipliers ``K y - r`` (zero on
+        the free variables) and the final active sets.
+        """
+        tol_nu = 1e-12 * abs(K).max()
+        max_iter = 100 + 5 * len(r)
+        seen, murty = set(), False
+        for _ in range(max_iter):
+            active = np.flatnonzero(lower | upper)
+            inactive = np.flatnonzero(~(lower | upper))
+            y = upper.astype(np.float64)
+            if inactive.size:
+                if sp.issparse(K):
+                    K_free = K[inactive]
+                    rhs = r[inactive] - K_free[:, active] @ y[active]
+                    y[inactive] = spla.splu(
+                        K_free[:, inactive].tocsc(), permc_spec="MMD_AT_PLUS_A", **symmetric
+                    ).solve(rhs)
+                else:
+                    rhs = r[inactive] - K[np.ix_(inactive, active)] @ y[active]
+                    factor = scipy.linalg.cho_factor(K[np.ix_(inactive, inactive)], check_finite=False)
+                    y[inactive] = scipy.linalg.cho_solve(factor, rhs, check_finite=False)
+            nu = np.zeros_like(y)
+            nu[active] = K[active] @ y - r[active]
+            below = ~(lower | upper) & (y < -tol_x)
+            above = ~(lower | upper) & (y > 1 + tol_x)
+            release = (lower & (nu < -tol_nu)) | (upper & (nu > tol_nu))
+            infeasible = below | above | release
+            count = int(infeasible.sum())
+            if count == 0:
+                return nu, lower, upper
+            state = (lower.tobytes(), upper.tobytes())
+            murty = murty or state in seen
+            seen.add(state)
+            if murty:
+                infeasible = np.zeros_like(infeasible)
+                infeasible[np.flatnonzero(below | above | release)[-1]] = True
+            lower = (lower & ~(infeasible & release)) | (infeasible & below)
+            upper = (upper & ~(infeasible & release)) | (infeasible & above)
+        raise RuntimeError(
+            f"bbw: the active-set solver did not converge in {max_iter} iterations "
+            f"({count} of {len(r)} variables still infeasible)"
+        )
+
+    free = np.setdiff1d(np.arange(n), b)
+    W = np.zeros((n, m))
+    W[b] = bc
+    if free.size:
+        Q_free = Q[free]
+        H = Q_free[:, free].tocsc()
+        rhs = -(Q_free[:, b] @ bc)
+        lu = spla.splu(H, permc_spec="MMD_AT_PLUS_A", **symmetric)
+        # about the flops of one sparse factorization of H (Σ column count²)
+        sparse_flops = float((np.diff(lu.L.indptr).astype(np.float64) ** 2).sum())
+        X_unconstrained = lu.solve(rhs)
+        X = X_unconstrained
+        # at_lower[i, j]: x_i = 0 for handle j; at_upper[i, j]: x_i = 1
+        at_lower = np.zeros_like(X, dtype=bool)
+        at_upper = np.zeros_like(X, dtype=bool)
+        C = np.zeros(len(free), dtype=bool)
+        while True:
+            at_lower |= X < -tol_x
+            at_upper |= X > 1 + tol_x
+            grown = C | at_lower.any(axis=1) | at_upper.any(axis=1)
+            if np.array_equal(grown, C):
+                break
+            # a dense Cholesky step costs |C|³/3 flops, at ~30x SuperLU's speed
+            if grown.sum() ** 3 < 100 * sparse_flops:
+                # Order C last, the rest in lu's fill-reducing order (lu.perm_c[i]
+                # is the position of vertex i): the trailing block of the factor
+                # is then the Schur complement K of H onto C.
+                order = np.argsort(lu.perm_c + len(free) * grown, kind="stable")
+                lu_c = spla.splu(H[order][:, order].tocsc(), permc_spec="NATURAL", **symmetric)
+                # SuperLU postorders its elimination tree, which can move a few
+                # other vertices behind C: take the whole trailing block
+                tail = len(free) - int(lu_c.perm_c[np.argsort(order)[grown]].min())
+                trailing = order[np.argsort(lu_c.perm_c)[-tail:]]
+                K = lu_c.L[-tail:, -tail:].toarray() @ lu_c.U[-tail:, -tail:].toarray()
+                K = 0.5 * (K + K.T)
+            else:
+                trailing = np.arange(len(free))
+                K = H
+            C[trailing] = True
+            # with the other vertices eliminated, the energy on C is
+            # ½ (y - x0)ᵀ K (y - x0), x0 the unconstrained weights there; its
+            # multipliers are the gradient of the full energy
+            multipliers = np.zeros((len(free), m))
+            for j in range(m):
+                nu, lower, upper = box_qp(
+                    K, K @ X_unconstrained[trailing, j], at_lower[trailing, j], at_upper[trailing, j],
+                )
+                multipliers[trailing, j] = nu
+                at_lower[:, j] = False
+                at_upper[:, j] = False
+                at_lower[trailing[lower], j] = True
+                at_upper[trailing[upper], j] = True
+            X = lu.solve(rhs + multipliers)
+            X[at_lower] = 0.0
+            X[at_upper] = 1.0
+        W[free] = np.clip(X, 0.0, 1.0)
+    sums = W.sum(axis=1)
+    if (sums <= 0).any():
+        i = int(np.flatnonzero(sums <= 0)[0])
+        raise ValueError(f"bc gives vertex {i} zero weight for every handle, so its row cannot be normalized")
+    return W / sums[:, None]

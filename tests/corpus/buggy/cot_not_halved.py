@@ -1,0 +1,24 @@
+NOTEBOOK = "03_arap"
+DESCRIPTION = "cotangent_weights() returns cot instead of ½ cot"
+SOLUTIONS = {
+    "cotangent_weights": '''import numpy as np
+
+
+def cotangent_weights(V, F):
+    V, F = np.asarray(V, dtype=float), np.asarray(F)
+    C = np.empty(F.shape)
+    for k in range(3):
+        a, b, c = V[F[:, k]], V[F[:, (k + 1) % 3]], V[F[:, (k + 2) % 3]]
+        u, v = b - a, c - a
+        dot = np.sum(u * v, axis=1)
+        if V.shape[1] == 2:
+            cross = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+        else:
+            cross = np.linalg.norm(np.cross(u, v), axis=1)
+        C[:, k] = dot / cross
+    return C
+''',
+}
+# L doubles; the global step's U is scale-invariant (both sides double), but the
+# energies arap_solve reports from these weights double
+LOSES = {"cotangent_weights", "cotangent_laplacian", "arap_solve"}

@@ -1,0 +1,15 @@
+NOTEBOOK = "03_arap"
+DESCRIPTION = "optimal_rotation() in the ARAP notebook returns U D Ṽᵀ, the transposed rotation"
+SOLUTIONS = {
+    "optimal_rotation": '''import numpy as np
+
+
+def optimal_rotation(S):
+    U, _, Vt = np.linalg.svd(np.asarray(S, dtype=float))
+    D = np.ones(U.shape[:-1])
+    D[..., -1] = np.linalg.det(U @ Vt)
+    return (U * D[..., None, :]) @ Vt
+''',
+}
+# the local step and the solver call optimal_rotation; the global step takes R as input
+LOSES = {"optimal_rotation", "arap_rotations", "arap_solve"}

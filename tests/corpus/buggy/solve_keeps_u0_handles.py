@@ -1,0 +1,17 @@
+NOTEBOOK = "03_arap"
+DESCRIPTION = "arap_solve() starts from U0 as given, without moving its handle rows to handle_positions first"
+SOLUTIONS = {
+    "arap_solve": '''import numpy as np
+
+
+def arap_solve(data, handle_positions, U0=None, iterations=10):
+    U = data.V.copy() if U0 is None else np.array(U0, dtype=float)
+    energies = []
+    for _ in range(iterations):
+        R = arap_rotations(data.V, U, data.F, data.C)
+        U = arap_global_step(data, R, handle_positions)
+        energies.append(arap_energy(data.V, U, data.F, data.C, R))
+    return U, np.array(energies)
+''',
+}
+LOSES = {"arap_solve"}

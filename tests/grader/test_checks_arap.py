@@ -1,0 +1,283 @@
+"""The stage 03 checks pass the reference, fail realistic mistakes and digest hostile outputs."""
+
+from __future__ import annotations
+
+import functools
+import types
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+import reference.arap as ref
+from reference.meshes import edges
+from grader.checks import all_checks, evaluate, reference_outputs, run_hidden_checks, wire
+from grader.checks.base import run_steps
+from grader.harness.outputs import CaseOutput
+
+FUNCTIONS = (
+    "cotangent_weights",
+    "cotangent_laplacian",
+    "arap_covariances",
+    "arap_rotations",
+    "arap_energy",
+    "arap_precompute",
+    "arap_global_step",
+    "arap_solve",
+    "laplacian_editing",
+)
+
+
+@functools.cache
+def hidden(function, seed=0):
+    """The hidden cases of ``function`` for ``seed`` and the reference's outputs on them."""
+    cases = all_checks()[function].cases(np.random.default_rng(seed))
+    return cases, reference_outputs(cases)
+
+
+def grade(function, seed=0, **replacements):
+    """The checks' result for the reference with some contract functions replaced."""
+    namespace = {**vars(ref), **replacements}
+    cases, expected = hidden(function, seed)
+    outputs = []
+    for case in cases:
+        try:
+            outputs.append(CaseOutput(wire(run_steps(case, namespace.__getitem__)), None, None))
+        except Exception as exc:  # noqa: BLE001 - a buggy implementation may crash: that case fails
+            outputs.append(CaseOutput(None, f"{type(exc).__name__}: {exc}", None))
+    return evaluate(all_checks()[function], cases, outputs, expected)
+
+
+def failed(result):
+    """Names of the failed verdicts (and ``"error"`` for cases that raised)."""
+    return {v.name for c in result.cases for v in c.verdicts if not v.passed} | ({"error"} if any(c.error for c in result.cases) else set())
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("function", FUNCTIONS)
+def test_reference_passes_every_hidden_case(function, seed):
+    result = run_hidden_checks(function, vars(ref), seed)
+    assert result.fraction == 1.0 and len(result.cases) >= 4
+
+
+# --- a student's own precomputation and global steps, built from the contract's definitions ---
+
+
+def student_precompute(V, F, handles):
+    """A student's data: the mesh, its weights, and the reference's data for an exact global step."""
+    return types.SimpleNamespace(V=V, F=F, handles=handles, C=ref.cotangent_weights(V, F), inner=ref.arap_precompute(V, F, handles))
+
+
+def student_global_step(data, R, handle_positions):
+    """The global step on ``student_precompute`` data."""
+    return ref.arap_global_step(data.inner, R, handle_positions)
+
+
+def linear_term(V, F, C, R):
+    """``B`` of the energy ``-3 tr(Uᵀ L U) − 2 tr(Uᵀ B) + const``: rotated rest edges gathered at their ends."""
+    edge = V[F[:, [2, 0, 1]]] - V[F[:, [1, 2, 0]]]  # opposite each corner, as in the contract
+    rotated = np.einsum("tij,tkj->tki", R[F].sum(axis=1), edge) * C[..., None]
+    B = np.zeros_like(V)
+    for k in range(3):
+        np.add.at(B, F[:, (k + 2) % 3], rotated[:, k])
+        np.add.at(B, F[:, (k + 1) % 3], -rotated[:, k])
+    return B
+
+
+def penalty_global_step(data, R, handle_positions, weight=1e8):
+    """Minimize the energy plus ``weight ‖U[handles] − positions‖²``: handles only approximately met."""
+    L = ref.cotangent_laplacian(data.V, data.F)
+    penalty = sp.coo_matrix((np.full(len(data.handles), weight), (data.handles, data.handles)), shape=L.shape)
+    rhs = linear_term(data.V, data.F, data.C, R)
+    rhs[data.handles] += weight * handle_positions
+    return spla.spsolve(sp.csc_matrix(-3.0 * L + penalty), rhs)
+
+
+def kkt_global_step(data, R, handle_positions):
+    """Handles as Lagrange constraints of the full system: exact, but not by substitution like the reference."""
+    n, h = len(data.V), data.handles
+    L = ref.cotangent_laplacian(data.V, data.F)
+    select = sp.coo_matrix((np.ones(len(h)), (np.arange(len(h)), h)), shape=(len(h), n))
+    K = sp.bmat([[-3.0 * L, select.T], [select, None]]).tocsc()
+    return spla.spsolve(K, np.vstack([linear_term(data.V, data.F, data.C, R), handle_positions]))[:n]
+
+
+def uniform_laplacian_editing(V, F, handles, handle_positions):
+    """Laplacian editing with the graph Laplacian instead of the cotangent one."""
+    n = len(V)
+    E = edges(F)
+    A = sp.coo_matrix((np.ones(2 * len(E)), (np.r_[E[:, 0], E[:, 1]], np.r_[E[:, 1], E[:, 0]])), shape=(n, n)).tocsr()
+    L = A - sp.diags(np.asarray(A.sum(axis=1)).ravel())
+    free = np.setdiff1d(np.arange(n), handles)
+    U = V.copy()
+    U[handles] = handle_positions
+    U[free] = spla.spsolve(sp.csc_matrix(L[free][:, free]), (L @ V)[free] - L[free][:, handles] @ handle_positions)
+    return U
+
+
+def student_solve(energy_of="after", replace_handles=True, extra_energy=False):
+    """``arap_solve`` on ``student_precompute`` data, optionally with one of the usual mistakes."""
+
+    def solve(data, handle_positions, U0=None, iterations=10):
+        V, F, C = data.V, data.F, data.C
+        U = (V if U0 is None else U0).copy()
+        if replace_handles:
+            U[data.handles] = handle_positions
+        energies = [ref.arap_energy(V, U, F, C, ref.arap_rotations(V, U, F, C))] if extra_energy else []
+        for _ in range(iterations):
+            R = ref.arap_rotations(V, U, F, C)
+            before = ref.arap_energy(V, U, F, C, R)
+            U = ref.arap_global_step(data.inner, R, handle_positions)
+            if energy_of == "after":
+                energies.append(ref.arap_energy(V, U, F, C, R))
+            elif energy_of == "fresh rotations":
+                energies.append(ref.arap_energy(V, U, F, C, ref.arap_rotations(V, U, F, C)))
+            else:
+                energies.append(before)
+        return U, energies
+
+    return solve
+
+
+def test_a_students_own_data_and_loop_pass():
+    assert grade("arap_solve", arap_precompute=student_precompute, arap_solve=student_solve()).fraction == 1.0
+
+
+def test_an_exact_global_step_by_another_method_passes():
+    assert grade("arap_global_step", arap_precompute=student_precompute, arap_global_step=kkt_global_step).fraction == 1.0
+
+
+def rotations_without_sign_correction(V, U, F, C):
+    Us, _, Vt = np.linalg.svd(ref.arap_covariances(V, U, F, C))
+    return np.swapaxes(Vt, 1, 2) @ np.swapaxes(Us, 1, 2)
+
+
+def _swap(R):
+    return np.swapaxes(R, -1, -2)
+
+
+MISTAKES = {
+    "weights: cot instead of ½ cot": ("cotangent_weights", {"cotangent_weights": lambda V, F: 2.0 * ref.cotangent_weights(V, F)}, "C matches ½ cot of each corner's angle"),
+    "weights: columns shifted": ("cotangent_weights", {"cotangent_weights": lambda V, F: np.roll(ref.cotangent_weights(V, F), 1, axis=1)}, "C matches ½ cot of each corner's angle"),
+    "laplacian: signs flipped": ("cotangent_laplacian", {"cotangent_laplacian": lambda V, F: -ref.cotangent_laplacian(V, F)}, "L matches"),
+    "laplacian: dense": ("cotangent_laplacian", {"cotangent_laplacian": lambda V, F: ref.cotangent_laplacian(V, F).toarray()}, "a scipy.sparse matrix"),
+    "covariances: transposed": ("arap_covariances", {"arap_covariances": lambda V, U, F, C: _swap(ref.arap_covariances(V, U, F, C))}, "S matches"),
+    "covariances: own weights instead of C": (
+        "arap_covariances",
+        {"arap_covariances": lambda V, U, F, C: ref.arap_covariances(V, U, F, ref.cotangent_weights(V, F))},
+        "S matches",
+    ),
+    "rotations: no sign correction": ("arap_rotations", {"arap_rotations": rotations_without_sign_correction}, "det = +1"),
+    "rotations: transposed": ("arap_rotations", {"arap_rotations": lambda V, U, F, C: _swap(ref.arap_rotations(V, U, F, C))}, "optimal tr(R_i S_i) at every vertex"),
+    "energy: fresh rotations instead of R": (
+        "arap_energy",
+        {"arap_energy": lambda V, U, F, C, R: ref.arap_energy(V, U, F, C, ref.arap_rotations(V, U, F, C))},
+        "energy",
+    ),
+    "energy: R transposed": ("arap_energy", {"arap_energy": lambda V, U, F, C, R: ref.arap_energy(V, U, F, C, _swap(R))}, "energy"),
+    "precompute: handles sorted": (
+        "arap_precompute",
+        {"arap_precompute": lambda V, F, handles: ref.arap_precompute(V, F, np.sort(handles))},
+        "handles met exactly",
+    ),
+    "global step: handles held by a penalty": (
+        "arap_global_step",
+        {"arap_precompute": student_precompute, "arap_global_step": penalty_global_step},
+        "handles met exactly",
+    ),
+    "global step: R transposed": (
+        "arap_global_step",
+        {"arap_global_step": lambda data, R, P: ref.arap_global_step(data, _swap(R), P)},
+        "minimal energy for the given rotations",
+    ),
+    "global step: rotations ignored": (
+        "arap_global_step",
+        {"arap_global_step": lambda data, R, P: ref.arap_global_step(data, np.broadcast_to(np.eye(R.shape[-1]), R.shape).copy(), P)},
+        "U is the unique minimizer",
+    ),
+    "solve: energies with fresh rotations": (
+        "arap_solve",
+        {"arap_precompute": student_precompute, "arap_solve": student_solve(energy_of="fresh rotations")},
+        "last energy is of U with the last iteration's rotations",
+    ),
+    "solve: energies before the global step": (
+        "arap_solve",
+        {"arap_precompute": student_precompute, "arap_solve": student_solve(energy_of="before")},
+        "energies match the reference's from the same start",
+    ),
+    "solve: handle rows of the start not replaced": (
+        "arap_solve",
+        {"arap_precompute": student_precompute, "arap_solve": student_solve(replace_handles=False)},
+        "U matches the reference's from the same start",
+    ),
+    "solve: the start's energy included": (
+        "arap_solve",
+        {"arap_precompute": student_precompute, "arap_solve": student_solve(extra_energy=True)},
+        "len(energies) == iterations",
+    ),
+    "editing: handles held by a penalty": (
+        "laplacian_editing",
+        {"laplacian_editing": lambda V, F, h, P: penalty_global_step(student_precompute(V, F, h), np.tile(np.eye(V.shape[1]), (len(V), 1, 1)), P)},
+        "handles met exactly",
+    ),
+    "editing: uniform Laplacian": ("laplacian_editing", {"laplacian_editing": uniform_laplacian_editing}, "U is the unique minimizer"),
+}
+
+
+@pytest.mark.parametrize("mistake", MISTAKES)
+def test_realistic_mistakes_fail(mistake):
+    function, replacements, verdict = MISTAKES[mistake]
+    assert verdict in failed(grade(function, **replacements))
+
+
+def test_every_solve_case_separates_the_step_energy_from_fresh_rotations():
+    result = grade("arap_solve", arap_precompute=student_precompute, arap_solve=student_solve(energy_of="fresh rotations"))
+    assert result.fraction == 0.0
+
+
+HOSTILE = {
+    "wrong shape": np.zeros((3, 7, 2)),
+    "NaN": np.full((5, 3), np.nan),
+    "a tuple where an array is expected": (np.zeros(3), np.zeros(3), np.zeros(3)),
+    "an int where a tuple is expected": 3,
+    "a pair of the wrong shapes": (np.zeros((4, 4)), np.zeros((2, 2))),
+    "text": np.array("U"),
+    "a sparse matrix of the wrong shape": sp.csr_matrix(np.eye(4)),
+}
+
+
+@pytest.mark.parametrize("hostile", HOSTILE)
+@pytest.mark.parametrize("function", FUNCTIONS)
+def test_hostile_outputs_give_failed_verdicts(function, hostile):
+    cases, expected = hidden(function)
+    result = evaluate(all_checks()[function], cases, [CaseOutput(HOSTILE[hostile], None, None)] * len(cases), expected)
+    assert result.fraction == 0.0
+    assert "readable output" not in failed(result)
+
+
+def test_nan_energies_fail_cleanly():
+    cases, expected = hidden("arap_solve")
+    outputs = []
+    for value in expected:
+        U, energies = wire(value)
+        outputs.append(CaseOutput((U, np.full(np.shape(energies), np.nan)), None, None))
+    result = evaluate(all_checks()["arap_solve"], cases, outputs, expected)
+    assert result.fraction == 0.0 and failed(result) == {"output shape"}
+
+
+@pytest.mark.parametrize("function", ["arap_precompute", "arap_global_step", "arap_solve"])
+def test_a_students_multi_step_outputs_pass_through_the_kernel_wire(function, tmp_path):
+    """The student's data object stays in the kernel; only the last step's raw output travels back."""
+    import grader.harness.kernel_side as kernel_side
+    from grader.harness.fixtures import write_fixtures
+    from grader.harness.outputs import read_outputs
+
+    namespace = {**vars(ref), "arap_precompute": student_precompute, "arap_global_step": student_global_step, "arap_solve": student_solve()}
+    exec(compile(open(kernel_side.__file__).read(), "<kernel_side>", "exec"), namespace)
+    cases, expected = hidden(function)
+    write_fixtures(function, cases, tmp_path / "fixtures")
+    (tmp_path / "outputs").mkdir()
+    namespace["__deformlab_collect__"](function, str(tmp_path / "fixtures"), str(tmp_path / "outputs"))
+    collected = read_outputs(function, tmp_path / "outputs", len(cases))
+    assert evaluate(all_checks()[function], cases, collected.cases, expected).fraction == 1.0

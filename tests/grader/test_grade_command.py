@@ -1,0 +1,106 @@
+"""`deformlab grade` on a small real class: every row written, whatever the students did."""
+
+import csv
+import json
+import shutil
+
+import nbformat
+import pytest
+
+from grader.build.lift import BEGIN_SOLUTION, END_SOLUTION
+from grader.cli import main
+
+NOTEBOOK = "01_shape_matching"
+
+
+def as_student(source_nb):
+    """The source notebook as a student who solved it would submit it (no markers, no hidden tests)."""
+    nb = nbformat.read(source_nb, as_version=4)
+    for cell in nb.cells:
+        cell.source = "\n".join(l for l in cell.source.splitlines() if l.strip() not in (BEGIN_SOLUTION, END_SOLUTION))
+    return nb
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory, source_notebooks):
+    tmp = tmp_path_factory.mktemp("class")
+    submitted = tmp / "submitted"
+    good = submitted / "Ada_Lovelace" / "deformation"
+    good.mkdir(parents=True)
+    nbformat.write(as_student(source_notebooks[NOTEBOOK]), good / f"{NOTEBOOK}.ipynb")
+    garbage = submitted / "bob" / "deformation"
+    garbage.mkdir(parents=True)
+    (garbage / f"{NOTEBOOK}.ipynb").write_bytes(b"\x00\x01 not a notebook")
+    renamed = submitted / "carol" / "deformation"
+    renamed.mkdir(parents=True)
+    nbformat.write(as_student(source_notebooks[NOTEBOOK]), renamed / f"{NOTEBOOK} (1).ipynb")
+    out = tmp / "out"
+    argv = [str(submitted), "--out", str(out), "--workers", "2", "--timeout", "20", "--db", f"sqlite:///{tmp}/gb.db", "--seed", "7"]
+    code = main(["grade", *argv])
+    return tmp, out, code, argv
+
+
+def rows(out):
+    with open(out / "grades.csv") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_exit_status_is_zero_and_every_student_has_a_row_per_notebook(graded, source_notebooks):
+    _, out, code, _ = graded
+    assert code == 0
+    table = rows(out)
+    assert list(table[0]) == ["student_id", "assignment", "notebook", "score", "max_score"]
+    assert {(r["student_id"], r["notebook"]) for r in table} == {
+        (s, n) for s in ("Ada_Lovelace", "bob", "carol") for n in source_notebooks
+    }
+
+
+def test_a_correct_notebook_earns_full_marks_and_others_missing_score_zero(graded):
+    _, out, _, _ = graded
+    table = {(r["student_id"], r["notebook"]): r for r in rows(out)}
+    ada = table[("Ada_Lovelace", NOTEBOOK)]
+    assert float(ada["score"]) == float(ada["max_score"]) > 0
+    assert float(table[("Ada_Lovelace", "03_arap")]["score"]) == 0
+    assert float(table[("bob", NOTEBOOK)]["score"]) == 0
+
+
+def test_the_log_says_why_each_row_scored_what_it_did(graded):
+    _, out, _, _ = graded
+    log = [json.loads(line) for line in (out / "log.jsonl").read_text().splitlines()]
+    by = {(r["student_id"], r["notebook"]): r for r in log}
+    assert by[("bob", NOTEBOOK)]["status"] == "invalid" and "not a Jupyter notebook" in by[("bob", NOTEBOOK)]["reasons"][0]
+    assert by[("Ada_Lovelace", "03_arap")]["status"] == "missing"
+    assert "renamed" in " ".join(by[("carol", NOTEBOOK)]["notes"])
+    assert by[("Ada_Lovelace", NOTEBOOK)]["seed"] == 7
+    assert by[("Ada_Lovelace", NOTEBOOK)]["peak_rss_bytes"] > 0
+
+
+def test_feedback_pages_show_each_function(graded):
+    _, out, _, _ = graded
+    page = (out / "feedback" / "Ada_Lovelace" / f"{NOTEBOOK}.html").read_text()
+    for fn in ("centroid", "covariance_matrix", "optimal_orthogonal", "orthogonal_align"):
+        assert f"<code>{fn}</code>" in page
+
+
+def test_the_gradebook_holds_the_autograded_scores(graded):
+    from nbgrader.api import Gradebook
+
+    tmp, _, _, _ = graded
+    with Gradebook(f"sqlite:///{tmp}/gb.db") as gb:
+        nb = gb.find_submission_notebook(NOTEBOOK, "deformation", "Ada_Lovelace")
+        assert nb.score == pytest.approx(sum(g.max_score for g in nb.grades if g.cell.cell_type == "code"))
+        assert {s.id for s in gb.students} >= {"Ada_Lovelace", "bob", "carol"}
+
+
+def test_rerunning_into_the_same_folder_reuses_results_and_writes_the_same_grades(graded):
+    _, out, _, argv = graded
+    before = (out / "grades.csv").read_text()
+    assert main(["grade", *argv]) == 0
+    assert (out / "grades.csv").read_text() == before
+    last = [json.loads(line) for line in (out / "log.jsonl").read_text().splitlines()][-1]
+    assert last["reused"] is True
+
+
+def test_a_missing_submitted_folder_is_a_usage_error(tmp_path, capsys):
+    assert main(["grade", str(tmp_path / "nope"), "--out", str(tmp_path / "o")]) == 2
+    assert "not a folder" in capsys.readouterr().err

@@ -1,0 +1,36 @@
+"""The Gradescope autograder runs this grader on /autograder/submission (simulated in a folder)."""
+
+import json
+import stat
+import zipfile
+
+import nbformat
+
+from grader.build.lift import BEGIN_SOLUTION, END_SOLUTION
+from grader.gradescope import build_autograder_zip, run
+
+
+def test_the_zip_holds_executable_scripts_and_the_course(tmp_path):
+    path = build_autograder_zip(tmp_path / "autograder.zip")
+    with zipfile.ZipFile(path) as z:
+        names = set(z.namelist())
+        for script in ("setup.sh", "run_autograder"):
+            assert stat.S_IMODE(z.getinfo(script).external_attr >> 16) & 0o111
+        assert "grader.gradescope run --root /autograder" in z.read("run_autograder").decode()
+    assert {"reference/arap.py", "grader/pipeline/run.py", "starter/plotting.py", "data/bar.npz"} <= names
+
+
+def test_results_json_has_one_test_per_checked_function(tmp_path, source_notebooks):
+    root = tmp_path / "autograder"
+    (root / "submission").mkdir(parents=True)
+    nb = nbformat.read(source_notebooks["02_sign_correction"], as_version=4)
+    for cell in nb.cells:
+        cell.source = "\n".join(l for l in cell.source.splitlines() if l.strip() not in (BEGIN_SOLUTION, END_SOLUTION))
+    nbformat.write(nb, root / "submission" / "02_sign_correction.ipynb")
+    results = json.loads(run(root).read_text())
+    tests = {t["name"]: t for t in results["tests"]}
+    assert tests["02_sign_correction: optimal_rotation"]["score"] == tests["02_sign_correction: optimal_rotation"]["max_score"] > 0
+    assert tests["03_arap: arap_solve"]["score"] == 0, "a notebook not submitted earns nothing"
+    assert all(t["visibility"] == "after_published" for t in results["tests"])
+    assert results["score"] == sum(t["score"] for t in results["tests"])
+    assert all(set(t) == {"name", "score", "max_score", "output", "visibility"} for t in results["tests"])

@@ -1,0 +1,71 @@
+"""`deformlab release` builds the handouts and proves them sound (slow: it executes every notebook)."""
+
+import zipfile
+from pathlib import Path
+
+import nbformat
+import pytest
+
+from grader.build.lift import lift
+from grader.build.release import release, scan_for_leaks
+from grader.paths import CoursePaths
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def released(tmp_path_factory):
+    """A release of this checkout's notebooks and reference, made in a temporary course."""
+    root = tmp_path_factory.mktemp("course")
+    for name in ("notebooks", "starter", "data", "reference"):
+        (root / name).symlink_to(ROOT / name)
+    (root / "assignments").mkdir()
+    paths = CoursePaths(root)
+    return paths, release(paths=paths)
+
+
+@pytest.mark.slow
+def test_the_release_passes_every_check(released):
+    paths, report = released
+    assert report.problems == []
+    assert set(report.points) == {"00_meshes", "01_shape_matching", "02_sign_correction", "03_arap", "04_bbw", "05_lbs"}
+    assert all(p > 0 for p in report.points.values())
+
+
+@pytest.mark.slow
+def test_release_notebooks_keep_signatures_and_docstrings_but_no_solution(released):
+    paths, _ = released
+    nb = nbformat.read(paths.release / "deformation" / "03_arap.ipynb", as_version=4)
+    cell = next(c for c in nb.cells if (c.metadata.get("nbgrader") or {}).get("grade_id") == "solution_arap_solve")
+    assert cell.source.count("def arap_solve(") == 1
+    assert '"""' in cell.source and "raise NotImplementedError()" in cell.source
+    assert lift("arap_solve").body.strip().splitlines()[-1].strip() not in cell.source
+
+
+@pytest.mark.slow
+def test_the_student_bundle_has_what_students_need_and_nothing_else(released):
+    paths, _ = released
+    with zipfile.ZipFile(paths.dist / "deformation-student.zip") as z:
+        names = set(z.namelist())
+    for needed in ("deformation/03_arap.ipynb", "deformation/starter/plotting.py", "deformation/data/bar.npz",
+                   "deformation/requirements.txt", "deformation/README.md", "deformation/check_notebook.py"):
+        assert needed in names
+    assert not any("/reference/" in n or "/grader/" in n or n.endswith("gradebook.db") for n in names)
+
+
+def test_the_leak_scan_finds_a_pasted_reference_body():
+    import json
+
+    pasted = {"cells": [{"source": ["x = 1\n"] + [line + "\n" for line in lift("optimal_rotation").body.splitlines()]}]}
+    problems = scan_for_leaks({"release/02.ipynb": json.dumps(pasted)})
+    assert any("reference code of optimal_rotation" in p for p in problems)
+
+
+def test_the_leak_scan_ignores_public_input_checks():
+    assert scan_for_leaks({"starter/x.py": 'U = as_float_array(U, "U", ndim=2)\nV = as_vertices(V)\n'}) == []
+
+
+def test_the_leak_scan_finds_hidden_test_markers():
+    problems = scan_for_leaks({"release/02.ipynb": "### BEGIN HIDDEN TESTS\nfrom grader.checks import x"})
+    assert any("BEGIN HIDDEN TESTS" in p for p in problems)
+    assert any("grader.checks" in p for p in problems)

@@ -1,0 +1,91 @@
+"""Without bubblewrap the sandbox still applies its limits, clean env and session."""
+
+from __future__ import annotations
+
+import logging
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from grader.sandbox import bwrap
+from grader.sandbox.bwrap import SandboxSpec, wrap_command
+from grader.sandbox.kernel import SandboxedKernelManager
+
+MEMORY = 2 * 2**30
+CPU = 120
+WARNING = "bubblewrap not available: grading without filesystem/network isolation"
+
+
+@pytest.fixture
+def no_bwrap(monkeypatch):
+    monkeypatch.setattr(bwrap, "bwrap_available", lambda: False)
+
+
+@pytest.fixture
+def spec(tmp_path):
+    (tmp_path / "student").mkdir()
+    return SandboxSpec(workdir=tmp_path / "student", memory_bytes=MEMORY, cpu_seconds=CPU, env={"EXTRA": "yes"})
+
+
+def _host_cmdlines() -> list[bytes]:
+    cmdlines = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                cmdlines.append((entry / "cmdline").read_bytes())
+            except OSError:
+                pass
+    return cmdlines
+
+
+def test_warning_is_logged_once_per_process(no_bwrap, spec, caplog):
+    bwrap._warn_without_bwrap.cache_clear()
+    with caplog.at_level(logging.WARNING, logger=bwrap.__name__):
+        wrap_command(["true"], spec)
+        wrap_command(["true"], spec)
+    assert [r.getMessage() for r in caplog.records] == [WARNING]
+
+
+def test_command_applies_limits_env_workdir_and_a_new_session(no_bwrap, spec, monkeypatch):
+    monkeypatch.setenv("GRADER_SECRET", "must not leak")
+    code = textwrap.dedent(
+        """
+        import os, resource
+        print(resource.getrlimit(resource.RLIMIT_AS), resource.getrlimit(resource.RLIMIT_CPU))
+        print(os.getsid(0) == os.getpid(), os.getcwd(), os.environ["HOME"], os.environ["EXTRA"])
+        print("GRADER_SECRET" in os.environ)
+        try:
+            bytearray(3 * 2**30)
+        except MemoryError:
+            print("MemoryError")
+        """
+    )
+    done = subprocess.run(wrap_command([sys.executable, "-c", code], spec), capture_output=True, text=True, timeout=60)
+    assert done.stdout.splitlines() == [
+        f"({MEMORY}, {MEMORY}) ({CPU}, {CPU})",
+        f"True {spec.workdir} {spec.workdir} yes",
+        "False",
+        "MemoryError",
+    ], done.stderr
+
+
+def test_kernel_hits_the_memory_cap_and_shutdown_kills_its_children(no_bwrap, spec):
+    km = SandboxedKernelManager(spec)
+    km.start_kernel()
+    kc = km.blocking_client()
+    kc.start_channels()
+    try:
+        kc.wait_for_ready(timeout=60)
+        reply = kc.execute_interactive("x = bytearray(3 * 2**30)", timeout=30, stop_on_error=False)
+        assert reply["content"]["ename"] == "MemoryError"
+        kc.execute_interactive(
+            "import subprocess; subprocess.Popen(['sleep', '987653'], start_new_session=True)", timeout=30
+        )
+        assert b"sleep\x00987653\x00" in _host_cmdlines()
+    finally:
+        kc.stop_channels()
+        km.shutdown_kernel(now=True)
+    assert b"sleep\x00987653\x00" not in _host_cmdlines()

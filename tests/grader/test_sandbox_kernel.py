@@ -1,0 +1,319 @@
+"""A sandboxed kernel runs student code but cannot see, write or reach anything else."""
+
+from __future__ import annotations
+
+import errno
+import os
+import socket
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+import uuid
+from pathlib import Path
+
+import nbformat
+import pytest
+from nbclient import NotebookClient
+from nbclient.exceptions import CellTimeoutError
+
+from grader.sandbox import bwrap
+from grader.sandbox.bwrap import SandboxSpec, bwrap_available, wrap_command
+from grader.sandbox.kernel import SandboxedKernelManager, peak_memory_bytes
+
+REPO = Path(__file__).resolve().parents[2]
+
+pytestmark = pytest.mark.skipif(
+    not bwrap_available(), reason="bubblewrap is missing or cannot create namespaces on this machine"
+)
+
+
+def _course(root: Path) -> SandboxSpec:
+    """A student workdir next to another student's folder, with the course's read-only extras."""
+    (root / "student").mkdir()
+    (root / "other_student").mkdir()
+    (root / "other_student" / "submission.ipynb").write_text("{}")
+    return SandboxSpec(workdir=root / "student", readonly=[REPO / "starter", REPO / "data"])
+
+
+def _start(spec: SandboxSpec):
+    km = SandboxedKernelManager(spec)
+    km.start_kernel()
+    kc = km.blocking_client()
+    kc.start_channels()
+    kc.wait_for_ready(timeout=60)
+    return km, kc
+
+
+def _run(kc, code: str, timeout: float = 30):
+    """Execute ``code``; return its stdout and the execute_reply content.
+
+    An error does not make the kernel abort the next request (stop_on_error),
+    so the kernel's survival can be checked right after.
+    """
+    out = []
+
+    def hook(msg):
+        if msg["msg_type"] == "stream":
+            out.append(msg["content"]["text"])
+
+    reply = kc.execute_interactive(textwrap.dedent(code), timeout=timeout, output_hook=hook, stop_on_error=False)
+    return "".join(out), reply["content"]
+
+
+def _host_cmdlines() -> list[bytes]:
+    cmdlines = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                cmdlines.append((entry / "cmdline").read_bytes())
+            except OSError:
+                pass
+    return cmdlines
+
+
+@pytest.fixture(scope="module")
+def kernel(tmp_path_factory):
+    spec = _course(tmp_path_factory.mktemp("course"))
+    km, kc = _start(spec)
+    yield spec, kc, km
+    kc.stop_channels()
+    km.shutdown_kernel(now=True)
+
+
+def test_nbclient_executes_cells_in_the_workdir_with_starter_importable(tmp_path):
+    spec = _course(tmp_path)
+    nb = nbformat.v4.new_notebook(
+        cells=[
+            nbformat.v4.new_code_cell("print(6 * 7)"),
+            nbformat.v4.new_code_cell("import os, starter\nprint(os.getcwd())\nprint(starter.__file__)"),
+        ]
+    )
+    km = SandboxedKernelManager(spec)
+    try:
+        NotebookClient(nb, km=km, timeout=60).execute()
+    finally:
+        # nbclient leaves a kernel manager it was given running.
+        km.shutdown_kernel(now=True)
+    assert nb.cells[0].outputs[0]["text"] == "42\n"
+    assert nb.cells[1].outputs[0]["text"] == f"{spec.workdir}\n{REPO / 'starter' / '__init__.py'}\n"
+    # Connection file and sockets are cleaned up: the workdir is as the student left it.
+    assert list(spec.workdir.iterdir()) == []
+
+
+def test_nbclient_cell_timeout_fires_on_a_hung_cell(tmp_path):
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("while True:\n    pass")])
+    km = SandboxedKernelManager(_course(tmp_path))
+    start = time.monotonic()
+    try:
+        with pytest.raises(CellTimeoutError):
+            NotebookClient(nb, km=km, timeout=2).execute()
+        assert time.monotonic() - start < 20
+    finally:
+        km.shutdown_kernel(now=True)
+
+
+def test_reference_solution_is_neither_readable_nor_importable(kernel):
+    spec, kc, _ = kernel
+    target = REPO / "reference" / "__init__.py"
+    assert target.is_file()
+    out, _ = _run(
+        kc,
+        f"""
+        try:
+            open({str(target)!r}).read()
+            print("read")
+        except OSError as e:
+            print(type(e).__name__)
+        try:
+            import reference
+            print("imported")
+        except ImportError as e:
+            print(type(e).__name__)
+        """,
+    )
+    assert out == "FileNotFoundError\nModuleNotFoundError\n"
+
+
+def test_other_students_folders_are_invisible(kernel):
+    spec, kc, _ = kernel
+    course = spec.workdir.parent
+    assert (course / "other_student" / "submission.ipynb").is_file()
+    out, _ = _run(
+        kc,
+        f"""
+        import os
+        print(sorted(os.listdir({str(course)!r})))
+        try:
+            print(os.listdir({str(course / "other_student")!r}))
+        except OSError as e:
+            print(type(e).__name__)
+        """,
+    )
+    assert out == "['student']\nFileNotFoundError\n"
+
+
+def test_writes_outside_the_workdir_never_reach_the_host(kernel, tmp_path):
+    spec, kc, _ = kernel
+    host_dir = tmp_path / "host_outside"
+    host_dir.mkdir()
+    targets = [host_dir / "leak.txt", REPO / f"sandbox_leak_{uuid.uuid4().hex}.txt"]
+    out, _ = _run(
+        kc,
+        f"""
+        import os
+        for target in {[str(t) for t in targets]!r}:
+            try:
+                os.makedirs(os.path.dirname(target), exist_ok=True)
+                with open(target, "w") as f:
+                    f.write("leak")
+            except OSError as e:
+                print(type(e).__name__)
+        try:
+            open({str(REPO / "starter" / "leak.py")!r}, "w")
+        except OSError as e:
+            print(e.errno)
+        """,
+    )
+    assert [t.exists() for t in targets] == [False, False]
+    assert not (REPO / "starter" / "leak.py").exists()
+    assert out.splitlines()[-1] == str(errno.EROFS)
+
+
+def test_writes_inside_the_workdir_persist(kernel):
+    spec, kc, _ = kernel
+    _run(kc, "open('result.txt', 'w').write('persisted 123')")
+    assert (spec.workdir / "result.txt").read_text() == "persisted 123"
+
+
+def test_network_is_unreachable_even_on_host_loopback(kernel):
+    _, kc, _ = kernel
+    with socket.create_server(("127.0.0.1", 0)) as server:
+        port = server.getsockname()[1]
+        out, _ = _run(
+            kc,
+            f"""
+            import socket
+            try:
+                socket.create_connection(("127.0.0.1", {port}), timeout=3).close()
+                print("connected")
+            except OSError as e:
+                print(type(e).__name__)
+            """,
+        )
+        server.settimeout(0)
+        with pytest.raises(BlockingIOError):
+            server.accept()
+        # The same connection from the host succeeds, so the refusal came from the sandbox.
+        socket.create_connection(("127.0.0.1", port), timeout=3).close()
+    assert out == "ConnectionRefusedError\n"
+
+
+def test_allocating_8_gb_raises_memory_error_and_the_kernel_survives(kernel):
+    _, kc, _ = kernel
+    _, reply = _run(kc, "x = bytearray(8 * 2**30)")
+    assert (reply["status"], reply["ename"]) == ("error", "MemoryError")
+    out, _ = _run(kc, "print('alive')")
+    assert out == "alive\n"
+
+
+def test_peak_memory_includes_a_300_mib_allocation(kernel):
+    spec, kc, km = kernel
+    _run(kc, "x = b'x' * (300 * 2**20); del x")
+    peak = peak_memory_bytes(km)
+    assert 300 * 2**20 <= peak < spec.memory_bytes
+
+
+def test_interrupt_stops_a_running_cell_and_the_kernel_survives(kernel):
+    _, kc, km = kernel
+    msg_id = kc.execute("import time; print('sleeping', flush=True); time.sleep(60)", stop_on_error=False)
+    while kc.get_iopub_msg(timeout=10)["content"].get("text") != "sleeping\n":
+        pass
+    km.interrupt_kernel()
+    reply = kc.get_shell_msg(timeout=10)
+    assert reply["parent_header"]["msg_id"] == msg_id
+    assert reply["content"]["ename"] == "KeyboardInterrupt"
+    out, _ = _run(kc, "print('alive')")
+    assert out == "alive\n"
+
+
+def test_shutdown_kills_processes_the_student_detached(tmp_path):
+    km, kc = _start(_course(tmp_path))
+    sleeper = b"sleep\x00987654\x00"
+    _run(kc, "import subprocess; subprocess.Popen(['sleep', '987654'], start_new_session=True)")
+    assert sleeper in _host_cmdlines()
+    kc.stop_channels()
+    km.shutdown_kernel(now=True)
+    assert sleeper not in _host_cmdlines()
+
+
+def test_shutdown_kills_a_kernel_ignoring_sigint_and_sigterm(tmp_path):
+    spec = _course(tmp_path)
+    km, kc = _start(spec)
+    kc.execute(
+        "import signal\n"
+        "signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+        "signal.signal(signal.SIGTERM, signal.SIG_IGN)\n"
+        "print('looping', flush=True)\n"
+        "while True:\n"
+        "    pass\n"
+    )
+    while kc.get_iopub_msg(timeout=10)["content"].get("text") != "looping\n":
+        pass
+    kernel_arg = str(spec.workdir).encode()
+    assert any(kernel_arg in c for c in _host_cmdlines())
+    kc.stop_channels()
+    start = time.monotonic()
+    km.shutdown_kernel(now=True)
+    assert time.monotonic() - start < 5
+    assert not km.is_alive()
+    # Neither bwrap nor the kernel (both carry the workdir in their argv) is left.
+    assert not any(kernel_arg in c for c in _host_cmdlines())
+
+
+def test_shutdown_kills_a_sandbox_orphaned_by_its_launcher(tmp_path):
+    # bwrap dies with the thread that started it; if that happens during its
+    # setup, its init process is orphaned and keeps the kernel running.
+    km = SandboxedKernelManager(_course(tmp_path))
+    starter = threading.Thread(target=km.start_kernel)
+    starter.start()
+    starter.join()
+    connection_file = os.path.realpath(km.connection_file).encode()
+    time.sleep(2)
+    if not any(connection_file in c for c in _host_cmdlines()):
+        pytest.skip("this time the sandbox died with its launcher: nothing was orphaned")
+    km.shutdown_kernel(now=True)
+    assert not any(connection_file in c for c in _host_cmdlines())
+
+
+def test_hidden_packages_and_paths_inside_mounted_trees_are_masked(tmp_path, monkeypatch):
+    # A non-editable install puts the package inside a tree the sandbox binds.
+    site = tmp_path / "site"
+    (site / "fake_reference").mkdir(parents=True)
+    (site / "fake_reference" / "__init__.py").write_text("ANSWER = 42\n")
+    (site / "gradebook.db").write_text("grades")
+    (tmp_path / "student").mkdir()
+    monkeypatch.syspath_prepend(str(site))
+    monkeypatch.setattr(bwrap, "HIDDEN_PACKAGES", ("fake_reference",))
+    spec = SandboxSpec(workdir=tmp_path / "student", readonly=[site], hide=[site / "gradebook.db"])
+    code = textwrap.dedent(
+        f"""
+        import os, sys
+        sys.path.insert(0, {str(site)!r})
+        print(sorted(os.listdir({str(site)!r})))
+        print(os.listdir({str(site / "fake_reference")!r}))
+        try:
+            open({str(site / "gradebook.db")!r}).read()
+        except OSError as e:
+            print(type(e).__name__)
+        # The masked folder imports at most as an empty namespace package.
+        try:
+            import fake_reference
+            print(hasattr(fake_reference, "ANSWER"))
+        except ImportError as e:
+            print(type(e).__name__)
+        """
+    )
+    done = subprocess.run(wrap_command([sys.executable, "-c", code], spec), capture_output=True, text=True, timeout=60)
+    assert done.stdout == "['fake_reference', 'gradebook.db']\n[]\nPermissionError\nFalse\n", done.stderr
