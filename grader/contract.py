@@ -31,7 +31,7 @@ STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
         ),
     ),
     "04_bbw": (
-        "bbw",
+        "bounded_biharmonic_weights",
         (
             "biharmonic_matrix",
             "handle_constraints",
@@ -40,7 +40,7 @@ STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
             "bbw",
         ),
     ),
-    "05_lbs": ("lbs", ("lbs_matrix", "lbs")),
+    "05_lbs": ("linear_blend_skinning", ("lbs_matrix", "lbs")),
 }
 
 #: every contract function -> its reference module (``reference.<module>``)

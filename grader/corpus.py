@@ -32,6 +32,9 @@ notebook into one student's submission and what grading it must give:
 ``LISTENER`` (optional)
     True if the submission tries to reach a TCP listener on 127.0.0.1 that
     the harness starts; it must see no connection.
+``WEAK_CHECK`` (optional)
+    Why the grader's checks do not catch this entry yet (which check, what
+    it misses); its test is then an expected failure until the check is fixed.
 
 Sources, paths and the listener's port are filled in per run: ``@@REPO@@``
 (the checkout), ``@@PORT@@`` and ``@@TOKEN@@`` (unique per run, used in
@@ -54,7 +57,7 @@ from grader.contract import ASSIGNMENT, CONTRACT_NAMES, STAGES
 
 KINDS = ("buggy", "correct", "hostile")
 
-_MARKER_LINE = re.compile(r"^[ \t]*### (BEGIN|END) SOLUTION[ \t]*\n", re.MULTILINE)
+_MARKER_LINE = re.compile(r"^[ \t]*### (BEGIN|END) SOLUTION[ \t]*(\n|\Z)", re.MULTILINE)
 
 
 @dataclass
@@ -64,7 +67,7 @@ class CorpusEntry:
     Attributes
     ----------
     name : str
-        File stem; also the student id of the submission.
+        File stem (``student_id`` derives the submission's student id from it).
     kind : str
         ``buggy``, ``correct`` or ``hostile``.
     notebook : str
@@ -72,6 +75,8 @@ class CorpusEntry:
     loses : frozenset of str
         Functions that must score below their points; the notebook's other
         graded functions must score full marks.
+
+    The other attributes are the optional ones of the module docstring, lower-cased.
     """
 
     name: str
@@ -88,8 +93,10 @@ class CorpusEntry:
     must_not_exist: tuple[str, ...] = ()
     no_process: str | None = None
     listener: bool = False
+    weak_check: str | None = None
 
-    def fill(self, text: str, params: dict[str, str]) -> str:
+    @staticmethod
+    def fill(text: str, params: dict[str, str]) -> str:
         """``text`` with the ``@@NAME@@`` placeholders replaced by ``params``."""
         for key, value in params.items():
             text = text.replace(f"@@{key}@@", value)
@@ -131,6 +138,7 @@ def load_entry(path: str | Path) -> CorpusEntry:
         must_not_exist=tuple(getattr(module, "MUST_NOT_EXIST", ())),
         no_process=getattr(module, "NO_PROCESS", None),
         listener=bool(getattr(module, "LISTENER", False)),
+        weak_check=getattr(module, "WEAK_CHECK", None),
     )
     if entry.notebook not in STAGES:
         raise ValueError(f"corpus entry {path}: NOTEBOOK {entry.notebook!r} is not one of {sorted(STAGES)}")

@@ -32,9 +32,8 @@ DEMO_ENTRIES = (
 )
 
 
-def _write(nb: nbformat.NotebookNode, folder: Path, name: str) -> None:
-    folder.mkdir(parents=True, exist_ok=True)
-    nbformat.write(nb, folder / f"{name}.ipynb")
+def demo_student_id(entry: CorpusEntry) -> str:
+    return entry.name.replace("_", "-")
 
 
 def build_class(submitted: Path, sources: list[Path], released: Path, entries: list[CorpusEntry]) -> list[str]:
@@ -52,20 +51,19 @@ def build_class(submitted: Path, sources: list[Path], released: Path, entries: l
         One student each: the entry's notebook, the reference for the others.
     """
     shutil.rmtree(submitted, ignore_errors=True)
-    folder = lambda sid: submitted / sid / ASSIGNMENT  # noqa: E731
     reference = {p.stem: student_notebook(nbformat.read(p, as_version=4), {}) for p in sources}
+    students = ["reference", *(demo_student_id(e) for e in entries), "blank"]
+    for sid in students:
+        (submitted / sid / ASSIGNMENT).mkdir(parents=True)
     for stem, nb in reference.items():
-        _write(nb, folder("reference"), stem)
+        nbformat.write(nb, submitted / "reference" / ASSIGNMENT / f"{stem}.ipynb")
+        shutil.copy(released / f"{stem}.ipynb", submitted / "blank" / ASSIGNMENT / f"{stem}.ipynb")
     for entry in entries:
-        sid = entry.name.replace("_", "-")
         for stem, nb in reference.items():
             if stem != entry.notebook:
-                _write(nb, folder(sid), stem)
-        build_submission(entry, sources[0].parent, submitted, sid)
-    folder("blank").mkdir(parents=True)
-    for path in sources:
-        shutil.copy(released / path.name, folder("blank") / path.name)
-    return ["reference", *(e.name.replace("_", "-") for e in entries), "blank"]
+                nbformat.write(nb, submitted / demo_student_id(entry) / ASSIGNMENT / f"{stem}.ipynb")
+        build_submission(entry, sources[0].parent, submitted, demo_student_id(entry))
+    return students
 
 
 def score_table(results: list[dict], students: list[str], notebooks: list[str]) -> str:
@@ -119,13 +117,13 @@ def run_demo(out: Path, workers: int | None = None) -> int:
     print("\n== the class ==")
     print("  reference: the instructor solutions; blank: the release notebooks as handed out")
     for entry in entries:
-        print(f"  {entry.name.replace('_', '-')}: {entry.notebook}: {entry.description}")
+        print(f"  {demo_student_id(entry)}: {entry.notebook}: {entry.description}")
 
     print("\n== grading ==")
     db = out / "gradebook.db"
     results = grade_class(out / "submitted", out, GradeOptions(workers=workers, db_url=f"sqlite:///{db}"))
 
-    print("\n== scores ==")
+    print("\n== scores (autograded points; short answers are graded by hand in formgrader) ==")
     print(score_table(results, students, [p.stem for p in sources]))
     print("\n== reports ==")
     print(f"  grades:    {out / 'grades.csv'}")

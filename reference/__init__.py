@@ -19,14 +19,14 @@ from reference.arap import (
     cotangent_weights,
     laplacian_editing,
 )
-from reference.bbw import (
+from reference.bounded_biharmonic_weights import (
     bbw,
     biharmonic_matrix,
     handle_constraints,
     inverse_distance_weights,
     unconstrained_biharmonic_weights,
 )
-from reference.lbs import lbs, lbs_matrix
+from reference.linear_blend_skinning import lbs, lbs_matrix
 
 __all__ = [
     "edges", "euler_characteristic", "boundary_loop_count", "genus",

@@ -92,6 +92,7 @@ def optimal_rotation(S):
                     break
             # p' is small only near a multiple root: those matrices go to the SVD anyway
             lam -= p / np.where(dp > 0.01, dp, np.inf)
+        # N - λ I, with Horn's symmetric N: tr(R(q) S) = qᵀ N q for q = (w, x, y, z)
         n00 = s00 + s11 + s22 - lam
         n11 = s00 - s11 - s22 - lam
         n22 = s11 - s00 - s22 - lam

@@ -12,6 +12,7 @@ Checks, each failing the release loudly:
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -65,6 +66,11 @@ tests pass. Hidden tests on other inputs decide the grade, so passing the
 public tests is necessary, not sufficient.
 
 Keep `starter/` and `data/` next to the notebooks; do not rename the notebooks.
+
+When grading, your solution cells and the cells that only set things up run;
+tests cells and cells that call the graded functions at top level (pictures,
+experiments) do not. Keep everything a function needs inside the function or
+in a cell that does not call a graded function.
 """
 
 
@@ -116,6 +122,24 @@ def _distinctive_lines(text: str) -> set[str]:
     return lines
 
 
+def _readable_text(text: str) -> str:
+    """A notebook's code, markdown and text outputs as plain lines; any other text as it is."""
+    try:
+        nb = json.loads(text)
+    except ValueError:
+        return text
+    if not isinstance(nb, dict) or not isinstance(nb.get("cells"), list):
+        return text
+    parts = []
+    for cell in nb["cells"]:
+        source = cell.get("source", "")
+        parts.append("".join(source) if isinstance(source, list) else str(source))
+        for out in cell.get("outputs", []):
+            for value in [out.get("text", "")] + list(out.get("data", {}).values()):
+                parts.append("".join(value) if isinstance(value, list) else str(value))
+    return "\n".join(parts)
+
+
 def scan_for_leaks(texts: dict[str, str]) -> list[str]:
     """Problems for every release text that holds reference code, hidden tests or grader internals.
 
@@ -128,10 +152,11 @@ def scan_for_leaks(texts: dict[str, str]) -> list[str]:
     forbidden = (*HIDDEN_MARKERS, "import reference", "from reference", "BEGIN SOLUTION", "END SOLUTION")
     problems = []
     for fname, text in texts.items():
+        text = _readable_text(text)
         for marker in forbidden:
             if marker in text:
                 problems.append(f"{fname} contains {marker!r}")
-        stripped = {line.strip() for line in text.replace("\\n", "\n").splitlines()}
+        stripped = {line.strip() for line in text.splitlines()}
         for name, lines in bodies.items():
             leaked = sorted(lines & stripped)
             # One generic line can recur by chance; two lines of one body, or a body's only line, cannot.

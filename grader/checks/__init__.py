@@ -9,7 +9,7 @@ from __future__ import annotations
 import functools
 import traceback
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -56,6 +56,11 @@ class FunctionResult:
             return 0.0
         return sum(c.passed for c in self.cases) / len(self.cases)
 
+    def failed_verdicts(self) -> set[str]:
+        """Names of the failed verdicts, plus ``"error"`` if a case raised."""
+        names = {v.name for c in self.cases for v in c.verdicts if not v.passed}
+        return names | ({"error"} if any(c.error for c in self.cases) else set())
+
     def summary(self) -> str:
         if self.error:
             return self.error
@@ -100,6 +105,29 @@ def wire(value: Any) -> Any:
     return np.array(value)
 
 
+@functools.lru_cache(maxsize=128)
+def seeded_cases(function: str, seed: int = 0) -> tuple[list[Case], list[Any]]:
+    """The cases of ``function`` drawn with ``default_rng(seed)`` and the reference's outputs on them."""
+    cases = all_checks()[function].cases(np.random.default_rng(seed))
+    return cases, reference_outputs(cases)
+
+
+def check_namespace(function: str, namespace: dict, seed: int = 0) -> FunctionResult:
+    """Verdicts for the implementations in ``namespace`` (name -> function), run in this process.
+
+    The outputs go through the same conversion as the kernel's wire, so the
+    verdicts are those grading would give.
+    """
+    cases, expected = seeded_cases(function, seed)
+    outputs = []
+    for case in cases:
+        try:
+            outputs.append(CaseOutput(wire(run_steps(case, lambda n: namespace[n])), None, None))
+        except Exception as exc:  # noqa: BLE001 - a failing implementation fails its case
+            outputs.append(CaseOutput(None, f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=2)}", None))
+    return evaluate(all_checks()[function], cases, outputs, expected)
+
+
 def run_hidden_checks(function: str, namespace: dict, seed: int = 0) -> FunctionResult | None:
     """Run the hidden checks of ``function`` against the functions in ``namespace``.
 
@@ -121,15 +149,7 @@ def run_hidden_checks(function: str, namespace: dict, seed: int = 0) -> Function
     for waiting in [f for f in pending if all(n in namespace for n in all_checks()[f].needs)]:
         pending.remove(waiting)
         run_hidden_checks(waiting, namespace, seed)
-    cases = checks.cases(np.random.default_rng(seed))
-    expected = reference_outputs(cases)
-    outputs = []
-    for case in cases:
-        try:
-            outputs.append(CaseOutput(wire(run_steps(case, lambda n: namespace[n])), None, None))
-        except Exception as exc:  # noqa: BLE001
-            outputs.append(CaseOutput(None, f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=2)}", None))
-    result = evaluate(checks, cases, outputs, expected)
+    result = check_namespace(function, namespace, seed)
     if result.fraction < 1.0:
         raise AssertionError(f"hidden checks of {function}: {result.summary()}")
     return result

@@ -146,6 +146,7 @@ class EdgesChecks(FunctionChecks):
         return [Case.call(label, "edges", F) for label, _, F in _topology_meshes(rng)]
 
     def verify(self, case, got, expected):
+        integer = np.issubdtype(np.asarray(got).dtype, np.integer)
         E = as_array(got, (None, 2), "edges", dtype=np.int64)
         want = as_array(expected, (None, 2), "the reference's edges", dtype=np.int64)
         unsorted = np.flatnonzero(E[:, 0] >= E[:, 1])
@@ -155,7 +156,10 @@ class EdgesChecks(FunctionChecks):
         found = {tuple(e) for e in np.sort(E, axis=1).tolist()}
         wanted = {tuple(e) for e in want.tolist()}
         missing, extra = sorted(wanted - found), sorted(found - wanted)
-        verdicts = [verdict("edge count", len(E) == len(want), f"returned {len(E)} rows, the mesh has {len(want)} edges")]
+        verdicts = [
+            verdict("integer indices", integer, f"edges have dtype {np.asarray(got).dtype}; vertex indices are integers (int64)"),
+            verdict("edge count", len(E) == len(want), f"returned {len(E)} rows, the mesh has {len(want)} edges"),
+        ]
         detail = f"row {unsorted[0]} is {E[unsorted[0]].tolist()}" if unsorted.size else ""
         verdicts.append(verdict("rows sorted ascending", unsorted.size == 0, detail))
         detail = f"rows {disorder[0]} and {disorder[0] + 1} are {E[disorder[0]].tolist()} and {E[disorder[0] + 1].tolist()}" if disorder.size else ""

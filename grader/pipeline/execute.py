@@ -58,6 +58,21 @@ class Execution:
     seconds: float = 0.0
 
 
+#: Text kept per output of a cell; the rest is dropped (outputs are never trusted, only shown).
+MAX_OUTPUT_CHARS = 20_000
+
+
+def _cap_outputs(cell) -> None:
+    """Keep a huge print from bloating the autograded notebook and the result passed between processes."""
+    for out in cell.get("outputs", []):
+        if out.get("output_type") == "stream" and len(out.get("text", "")) > MAX_OUTPUT_CHARS:
+            out["text"] = out["text"][:MAX_OUTPUT_CHARS] + f"\n[... output cut at {MAX_OUTPUT_CHARS} characters by the grader]\n"
+        for mime, value in list(out.get("data", {}).items()):
+            if isinstance(value, str) and len(value) > 10 * MAX_OUTPUT_CHARS:
+                out["data"] = {"text/plain": f"[{mime} output of {len(value)} characters removed by the grader]"}
+                break
+
+
 def _error_of(cell) -> str | None:
     for out in cell.get("outputs", []):
         if out.get("output_type") == "error":
@@ -131,6 +146,7 @@ def execute(
                     kind, what = items[0]
                     if kind == "cell":
                         client.execute_cell(nb.cells[what], what)
+                        _cap_outputs(nb.cells[what])
                         error = _error_of(nb.cells[what])
                         if error:
                             result.cell_failures[what] = error

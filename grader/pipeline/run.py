@@ -8,9 +8,11 @@ pool, and records each result as it arrives (``grader.pipeline.record``).
 from __future__ import annotations
 
 import json
+import multiprocessing
 import os
 import secrets
 import sys
+import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
@@ -21,7 +23,7 @@ import nbformat
 from grader.contract import ASSIGNMENT
 from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
-from grader.pipeline.unit import UnitSpec, grade_unit, sha256_of
+from grader.pipeline.unit import UnitSpec, grade_unit, sha256_of, zero_result
 
 
 @dataclass
@@ -195,9 +197,11 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
     with Gradebook(db_url) as gb:
         for r in results:
             record.record_gradebook(gb, r)
+            record.append_log(out, r)
         while todo:
             broken = False
-            with ProcessPoolExecutor(max_workers=workers, initializer=_worker_init) as pool:
+            # spawn, not fork: a forked child inherits jupyter's event-loop thread as a dead handle and hangs.
+            with ProcessPoolExecutor(max_workers=workers, initializer=_worker_init, mp_context=multiprocessing.get_context("spawn")) as pool:
                 futures = {pool.submit(grade_unit, u): u for u in todo}
                 for future in as_completed(futures):
                     unit = futures[future]
@@ -206,6 +210,8 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
                     except BrokenProcessPool:
                         broken = True
                         continue
+                    except Exception as exc:  # noqa: BLE001 - whatever one unit raised, the others are graded
+                        result = _grader_error(unit, f"grader error: {type(exc).__name__}: {exc}")
                     todo.remove(unit)
                     _record(out, autograded, gb, result)
                     results.append(result)
@@ -226,11 +232,8 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
 
 
 def _grader_error(unit: UnitSpec, reason: str) -> dict:
-    from grader.pipeline.unit import _zero_result
-    import time
-
     source = nbformat.read(unit.source, as_version=4)
-    return _zero_result(unit, source, "grader-error", reason, time.monotonic()) | {"feedback_html": None, "autograded_notebook": None}
+    return zero_result(unit, source, "grader-error", reason, time.monotonic()) | {"feedback_html": None, "autograded_notebook": None}
 
 
 def _record(out: Path, autograded: Path, gb, result: dict) -> None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import ast
 import copy
 import json
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -94,6 +95,13 @@ def _calls_contract_at_top_level(source: str) -> bool:
         tree = ast.parse(source)
     except SyntaxError:
         return False
+    except Exception:  # noqa: BLE001 - CPython 3.11's parser can fail with SystemError on odd input
+        # Without a tree, judge by text: an unindented line calling a contract function.
+        return any(
+            re.match(rf"^(?!def |class |@|#)[^\n]*\b{name}\s*\(", line)
+            for line in source.splitlines()
+            for name in CONTRACT_NAMES
+        )
     body_nodes: set[int] = set()
     for node in ast.walk(tree):
         if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):

@@ -13,7 +13,7 @@ import shutil
 import tempfile
 import time
 import traceback
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import nbformat
@@ -63,7 +63,8 @@ def sha256_of(path: str | Path) -> str | None:
         return None
 
 
-def _zero_result(spec: UnitSpec, source: nbformat.NotebookNode, status: str, reason: str, started: float) -> dict:
+def zero_result(spec: UnitSpec, source: nbformat.NotebookNode, status: str, reason: str, started: float) -> dict:
+    """A result scoring 0 on every graded cell, with the reason."""
     tests = [
         {"grade_id": c.grade_id, "function": c.function, "points": c.points, "score": 0.0, "summary": reason, "cases": []}
         for c in graded_cells(source)
@@ -101,30 +102,36 @@ def grade_unit(spec: UnitSpec) -> dict:
     started = time.monotonic()
     source = nbformat.read(spec.source, as_version=4)
     if spec.submission is None:
-        return _zero_result(spec, source, "missing", f"no {spec.notebook}.ipynb was submitted", started) | {
+        return zero_result(spec, source, "missing", f"no {spec.notebook}.ipynb was submitted", started) | {
             "feedback_html": feedback_html(spec, [], [f"No {spec.notebook}.ipynb was submitted."]),
             "autograded_notebook": None,
         }
     try:
         sanitized = sanitize(read_submission(Path(spec.submission)), source)
     except SubmissionError as exc:
-        return _zero_result(spec, source, "invalid", str(exc), started) | {
+        return zero_result(spec, source, "invalid", str(exc), started) | {
             "feedback_html": feedback_html(spec, [], [str(exc)]),
             "autograded_notebook": None,
         }
+    except Exception as exc:  # noqa: BLE001 - the grader's own failure on this file: this row says so
+        return _grader_error(spec, source, exc, started)
 
     cells = graded_cells(source)
     workdir = Path(tempfile.mkdtemp(prefix="dl-"))
     try:
         fixtures, outputs = workdir / "fixtures", workdir / "outputs"
         outputs.mkdir()
+        broken: dict[str, str] = {}  # functions whose hidden cases the reference itself failed on
         for cell in cells:
-            write_fixtures(cell.function, hidden_cases(cell.function, spec.seed)[0], fixtures)
+            try:
+                write_fixtures(cell.function, hidden_cases(cell.function, spec.seed)[0], fixtures)
+            except Exception as exc:  # noqa: BLE001 - costs this function, not the notebook
+                broken[cell.function] = f"grader error preparing hidden cases: {type(exc).__name__}: {exc}"
         nbformat.write(sanitized.nb, workdir / f"{spec.notebook}.ipynb")
         run = execute(
             sanitized.nb,
             sanitized.plan,
-            [c.function for c in cells],
+            [c.function for c in cells if c.function not in broken],
             workdir,
             fixtures,
             outputs,
@@ -132,6 +139,10 @@ def grade_unit(spec: UnitSpec) -> dict:
         )
         tests, results = [], []
         for cell in cells:
+            if cell.function in broken:
+                tests.append({"grade_id": cell.grade_id, "function": cell.function, "points": cell.points,
+                              "score": 0.0, "summary": broken[cell.function], "cases": []})
+                continue
             failure = run.collection_failures.get(cell.function)
             collected = None
             if failure is None:
@@ -162,7 +173,8 @@ def grade_unit(spec: UnitSpec) -> dict:
                 }
             )
         reasons = [f"cell {i + 1}: {why}" for i, why in sorted(run.cell_failures.items())]
-        status = "graded" if not run.events else "graded-with-incidents"
+        status = "grader-error" if broken else "graded" if not run.events else "graded-with-incidents"
+        reasons += list(broken.values())
         return _result(
             spec,
             status,
@@ -177,14 +189,14 @@ def grade_unit(spec: UnitSpec) -> dict:
             autograded_notebook=nbformat.writes(sanitized.nb),
         )
     except Exception as exc:  # noqa: BLE001 - the grader's own failure: this row says so, the run goes on
-        return _zero_result(spec, source, "grader-error", f"grader error: {type(exc).__name__}: {exc}", started) | {
-            "feedback_html": feedback_html(spec, [], ["The grader failed on this notebook; your TA has been told."]),
-            "autograded_notebook": None,
-            "traceback": traceback.format_exc(),
-        }
+        return _grader_error(spec, source, exc, started)
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
 
 
-def spec_dict(spec: UnitSpec) -> dict:
-    return asdict(spec)
+def _grader_error(spec: UnitSpec, source: nbformat.NotebookNode, exc: BaseException, started: float) -> dict:
+    return zero_result(spec, source, "grader-error", f"grader error: {type(exc).__name__}: {exc}", started) | {
+        "feedback_html": feedback_html(spec, [], ["The grader failed on this notebook; your TA has been told."]),
+        "autograded_notebook": None,
+        "traceback": traceback.format_exc(),
+    }

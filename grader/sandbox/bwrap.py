@@ -35,6 +35,7 @@ log = logging.getLogger(__name__)
 
 DEFAULT_MEMORY_BYTES = 4 * 2**30
 DEFAULT_CPU_SECONDS = 3600
+DEFAULT_FILE_BYTES = 2**30
 
 # Top-level packages the student must never import, masked wherever they are installed.
 HIDDEN_PACKAGES = ("reference", "grader")
@@ -85,6 +86,9 @@ class SandboxSpec:
         executor's per-cell timeout; ``None`` for none.
     env : dict of str to str
         Extra environment variables, applied over the sandbox's clean defaults.
+    file_bytes : int
+        Largest file a process may write (``RLIMIT_FSIZE``), and the size of
+        the private ``/tmp`` (which lives in the host's memory).
 
     Paths are made absolute and resolved (symlinks followed) on construction.
     """
@@ -95,6 +99,7 @@ class SandboxSpec:
     memory_bytes: int = DEFAULT_MEMORY_BYTES
     cpu_seconds: int | None = DEFAULT_CPU_SECONDS
     env: dict[str, str] = field(default_factory=dict)
+    file_bytes: int = DEFAULT_FILE_BYTES
 
     def __post_init__(self):
         self.workdir = Path(self.workdir).resolve()
@@ -105,6 +110,8 @@ class SandboxSpec:
         if missing:
             raise ValueError(f"readonly must list existing paths, missing: {missing}")
         self.hide = [Path(p).resolve() for p in self.hide]
+        if not _is_positive_int(self.file_bytes):
+            raise ValueError(f"file_bytes must be a positive int, got {self.file_bytes!r}")
         if not _is_positive_int(self.memory_bytes):
             raise ValueError(f"memory_bytes must be a positive int, got {self.memory_bytes!r}")
         if self.cpu_seconds is not None and not _is_positive_int(self.cpu_seconds):
@@ -227,7 +234,7 @@ def _isolation_args() -> list[str]:
 def _bwrap_args(spec: SandboxSpec) -> list[str]:
     """bubblewrap options for ``spec``, mounts in an order where later ones win."""
     # /tmp first, so that a venv or course folder under /tmp is bound on top of it.
-    args = [*_isolation_args(), "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
+    args = [*_isolation_args(), "--proc", "/proc", "--dev", "/dev", "--size", str(spec.file_bytes), "--tmpfs", "/tmp"]
     mounted = [Path("/usr")]
     args += ["--ro-bind", "/usr", "/usr"]
     for name in ROOT_LINKS:
@@ -297,7 +304,7 @@ def wrap_command(argv: list[str], spec: SandboxSpec) -> list[str]:
     """
     if not argv or not all(isinstance(a, str) for a in argv):
         raise ValueError(f"argv must be a non-empty list of str, got {argv!r}")
-    limits = prlimit_prefix(spec.memory_bytes, spec.cpu_seconds)
+    limits = prlimit_prefix(spec.memory_bytes, spec.cpu_seconds, spec.file_bytes)
     if bwrap_available():
         return [*limits, shutil.which("bwrap"), *_bwrap_args(spec), "--", *argv]
     _warn_without_bwrap()

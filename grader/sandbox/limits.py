@@ -27,7 +27,7 @@ class Process(NamedTuple):
     start_ticks: int
 
 
-def prlimit_prefix(memory_bytes: int, cpu_seconds: int | None) -> list[str]:
+def prlimit_prefix(memory_bytes: int, cpu_seconds: int | None, file_bytes: int | None = None) -> list[str]:
     """Return the ``prlimit`` argv prefix that applies the sandbox's limits.
 
     Parameters
@@ -36,6 +36,9 @@ def prlimit_prefix(memory_bytes: int, cpu_seconds: int | None) -> list[str]:
         Address-space cap (``RLIMIT_AS``), soft and hard, in bytes.
     cpu_seconds : int or None
         CPU-time cap (``RLIMIT_CPU``) per process, in seconds; ``None`` for none.
+    file_bytes : int or None
+        Largest file a process may write (``RLIMIT_FSIZE``), so student code
+        cannot fill the host's disk through the workdir; ``None`` for none.
 
     Returns
     -------
@@ -46,6 +49,8 @@ def prlimit_prefix(memory_bytes: int, cpu_seconds: int | None) -> list[str]:
     prefix = ["prlimit", f"--as={memory_bytes}", "--core=0"]
     if cpu_seconds is not None:
         prefix.append(f"--cpu={cpu_seconds}")
+    if file_bytes is not None:
+        prefix.append(f"--fsize={file_bytes}")
     return [*prefix, "--"]
 
 

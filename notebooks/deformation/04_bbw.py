@@ -122,10 +122,10 @@ assert _LV.max() < 1e-9, (
 # This is a *mixed* finite-element discretization: the fourth-order operator is
 # split into two second-order ones, so piecewise-linear elements suffice. $Q$ is
 # symmetric and positive semi-definite ($w^\top Q w = \|Lw\|^2_{M^{-1}}$), sparse
-# (two-ring neighbours), and its null space contains the constants. The boundary
-# conditions come for free: minimizing $w^\top Q w$ imposes the *natural* ones,
-# which let the weights leave the boundary at any angle (unlike $w = 0$ on the
-# boundary, which would pin the outline).
+# (two-ring neighbours), and its null space contains the constants. The outline
+# needs no special treatment: minimizing $w^\top Q w$ leaves the values there
+# free (it imposes so-called *natural* boundary conditions), whereas prescribing
+# $w = 0$ on the boundary would pin the outline in place.
 #
 # Units are a good check: in 2D, $L$ is scale-invariant (cotangents only see
 # angles) while $M$ is an area. Scaling the shape by $s$ therefore scales $Q$ by
@@ -207,8 +207,10 @@ assert np.array_equal(_bc.sum(axis=1), np.ones(len(_b))), "every row of bc must 
 #   between; far from all handles every weight tends to $1/m$, so distant parts
 #   move with the average of all handles.
 # * **No shape awareness.** The distance is Euclidean, measured through the air:
-#   the left hand influences the left hip about as much as the belly, because it
-#   is about as close, though along the body it is much further.
+#   a vertex gets the same weight from a handle whether the two are connected
+#   through the shape or only across a gap. Handles on two fingers that nearly
+#   touch pull on each other's finger, and a hole in the shape makes no
+#   difference at all.
 #
 # **Your task.** `inverse_distance_weights(V, handle_points, power=2)` returns the
 # `(n, m)` weights. Vertices closer than 1e-12 to a handle point would divide by
@@ -287,8 +289,9 @@ assert _W.min() < -1e-3, "these weights should go negative somewhere (the lobes)
 #
 # Why do negative weights matter? Translate handle $j$ by $t$ and leave the
 # others: every vertex moves by $w_j(v)\,t$. Where $w_j < 0$ the vertex moves
-# **against** the handle: pull the right hand up and a patch of the left leg
-# moves down. Weights above 1 overshoot the same way. BBW adds the bounds to
+# **against** the handle: pull one hand up and patches around the other handles
+# move down. Weights above 1 overshoot: those vertices move further than the
+# handle itself. BBW adds the bounds to
 # each handle's problem,
 #
 # $$
@@ -376,7 +379,7 @@ plotting.show_weights(V, F, W_bbw, handles=[np.array([p]) for p in points])
 # handles (head, left foot, right foot) the unconstrained weight of the left
 # foot dips to about −0.1 over the whole right arm. Pull the left foot to the
 # left and keep the other two handles: with translations only, every vertex
-# moves by $w_{	ext{foot}}(v)\,t$, coloured below by that weight.
+# moves by $w_{\text{foot}}(v)\,t$, coloured below by that weight.
 
 # %%
 regions = character_handles["regions"]

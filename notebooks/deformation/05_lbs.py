@@ -115,10 +115,10 @@ assert _err.max() < 1e-10, (
 # %% [markdown]
 # ## 2 · Skinning
 #
-# `lbs(V, W, T)` is the same deformation without building $M$: for a single pose
-# it is cheaper to transform the rest positions by every handle, `(m, n, d)`, and
-# blend them with the weights. Two properties every weight function used for
-# skinning should guarantee, and that the tests check:
+# `lbs(V, W, T)` computes the same deformation straight from the formula, without
+# building $M$: transform the rest positions by every handle and blend the
+# results with the weights. Two properties of the weights make skinning behave,
+# and the tests check that your `lbs` respects them:
 #
 # * **one-hot rows move rigidly.** A vertex with $w_{ij} = 1$ (a handle vertex)
 #   follows $T_j$ exactly;
@@ -180,17 +180,19 @@ assert _err.max() < 1e-10, f"a vertex with a one-hot weight row must follow its 
 # $L w_j = 0$ at the free vertices, with $w_j = 1$ on handle $j$ and $0$ on the
 # other handles (`igl.cotmatrix` is the cotangent Laplacian of stage 03). The
 # constant function satisfies the same equations with all handles at 1, so the
-# weights sum to one at every vertex automatically; and on a Delaunay mesh like
-# ours the discrete maximum principle keeps them in $[0, 1]$. Harmonic weights
+# weights sum to one at every vertex automatically; and, unlike biharmonic
+# weights, harmonic ones obey a maximum principle, which keeps them within
+# $[0, 1]$ on a well-shaped mesh like this one (the cell prints the range). Harmonic weights
 # are fine for bones and regions; for single-vertex point handles they form
 # sharp spikes (a 2D harmonic function with a point constraint behaves like
 # $\log r$), which is one of the reasons stage 04 uses the biharmonic energy.
 #
 # A bone pose rotates each bone about its joint, the bone's first vertex (the
-# vertices of a bone are ordered from its start to its end). The bones form a
-# small hierarchy: the legs and the spine turn about the pelvis, and the arms
-# hang on the spine, so an arm's transformation is the spine's applied after the
-# arm's own rotation about its shoulder (*forward kinematics*).
+# vertices of a bone are ordered from its start to its end): the spine turns
+# about the pelvis, each leg about its hip, each arm about its shoulder. The
+# bones form a small hierarchy: the arms hang on the spine, so an arm's
+# transformation is the spine's applied after the arm's own rotation
+# (*forward kinematics*).
 
 # %%
 def harmonic_weights(V, F, handle_sets):
@@ -283,7 +285,7 @@ print(f"lbs_matrix once: {1e3 * precompute:.2f} ms; per frame: M @ T {1e6 * with
 # %% [markdown]
 # ## 4 · The candy wrapper
 #
-# Now twist. The cylinder's two end rings are the handles; the left one stays,
+# Now twist. The cylinder's two end caps are the handles; the left one stays,
 # the right one turns by $\theta$ about the cylinder's axis. The weight of the
 # right handle rises smoothly from 0 to 1 along the axis (a cubic smooth step
 # $3s^2 - 2s^3$ of the normalized position $s$), the left one is its complement.
@@ -301,17 +303,16 @@ print(f"lbs_matrix once: {1e3 * precompute:.2f} ms; per frame: M @ T {1e6 * with
 # collapses to its axis, like the twisted ends of a candy wrapper. The reason is
 # general: a weighted average of rotation matrices is not a rotation (rotations do
 # not form a linear space), and LBS averages matrices. Skinning methods that
-# blend rotations instead, e.g. dual-quaternion skinning, or that optimize the
-# shape, like ARAP, do not collapse.
+# blend rotations instead, such as dual-quaternion skinning, do not collapse
+# this way, and neither does ARAP when the twist is reached in small steps
+# (stage 03).
 
 # %%
 V, F = load_mesh("cylinder")
-ends = load_handles("cylinder")
 s = (V[:, 0] - V[:, 0].min()) / np.ptp(V[:, 0])
 w_right = 3 * s**2 - 2 * s**3
 W_cylinder = np.stack([1.0 - w_right, w_right], axis=1)
-middle = np.abs(s - 0.5) < 1e-9
-assert middle.any(), "the cylinder has a ring of vertices half way along its axis"
+middle = np.abs(s - 0.5) < 1e-9  # the ring of vertices half way along the axis
 
 twisted = []
 for degrees in (0, 90, 135, 180):
@@ -323,7 +324,6 @@ for degrees in (0, 90, 135, 180):
     print(f"twist {degrees:3d}°: middle ring radius × {radius:.4f}   (cos(θ/2) = {np.cos(theta / 2):.4f})")
     twisted.append((U, F))
 plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
-plotting.show_deformation(V, twisted[-1][0], F, handles=np.concatenate([ends["left"], ends["right"]]), titles=("rest", "twisted by 180°"))
 
 # %% [markdown]
 # **Question.** Why does the candy wrapper appear? Explain it for the vertices in

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 import types
 
 import numpy as np
@@ -12,8 +11,7 @@ import scipy.sparse.linalg as spla
 
 import reference.arap as ref
 from reference.meshes import edges
-from grader.checks import all_checks, evaluate, reference_outputs, run_hidden_checks, wire
-from grader.checks.base import run_steps
+from grader.checks import check_namespace, seeded_cases, all_checks, evaluate, run_hidden_checks, wire
 from grader.harness.outputs import CaseOutput
 
 FUNCTIONS = (
@@ -29,29 +27,13 @@ FUNCTIONS = (
 )
 
 
-@functools.cache
-def hidden(function, seed=0):
-    """The hidden cases of ``function`` for ``seed`` and the reference's outputs on them."""
-    cases = all_checks()[function].cases(np.random.default_rng(seed))
-    return cases, reference_outputs(cases)
-
-
 def grade(function, seed=0, **replacements):
     """The checks' result for the reference with some contract functions replaced."""
-    namespace = {**vars(ref), **replacements}
-    cases, expected = hidden(function, seed)
-    outputs = []
-    for case in cases:
-        try:
-            outputs.append(CaseOutput(wire(run_steps(case, namespace.__getitem__)), None, None))
-        except Exception as exc:  # noqa: BLE001 - a buggy implementation may crash: that case fails
-            outputs.append(CaseOutput(None, f"{type(exc).__name__}: {exc}", None))
-    return evaluate(all_checks()[function], cases, outputs, expected)
+    return check_namespace(function, {**vars(ref), **replacements}, seed)
 
 
 def failed(result):
-    """Names of the failed verdicts (and ``"error"`` for cases that raised)."""
-    return {v.name for c in result.cases for v in c.verdicts if not v.passed} | ({"error"} if any(c.error for c in result.cases) else set())
+    return result.failed_verdicts()
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -250,14 +232,14 @@ HOSTILE = {
 @pytest.mark.parametrize("hostile", HOSTILE)
 @pytest.mark.parametrize("function", FUNCTIONS)
 def test_hostile_outputs_give_failed_verdicts(function, hostile):
-    cases, expected = hidden(function)
+    cases, expected = seeded_cases(function)
     result = evaluate(all_checks()[function], cases, [CaseOutput(HOSTILE[hostile], None, None)] * len(cases), expected)
     assert result.fraction == 0.0
     assert "readable output" not in failed(result)
 
 
 def test_nan_energies_fail_cleanly():
-    cases, expected = hidden("arap_solve")
+    cases, expected = seeded_cases("arap_solve")
     outputs = []
     for value in expected:
         U, energies = wire(value)
@@ -275,7 +257,7 @@ def test_a_students_multi_step_outputs_pass_through_the_kernel_wire(function, tm
 
     namespace = {**vars(ref), "arap_precompute": student_precompute, "arap_global_step": student_global_step, "arap_solve": student_solve()}
     exec(compile(open(kernel_side.__file__).read(), "<kernel_side>", "exec"), namespace)
-    cases, expected = hidden(function)
+    cases, expected = seeded_cases(function)
     write_fixtures(function, cases, tmp_path / "fixtures")
     (tmp_path / "outputs").mkdir()
     namespace["__deformlab_collect__"](function, str(tmp_path / "fixtures"), str(tmp_path / "outputs"))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 import importlib
 
 import igl
@@ -12,39 +11,22 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import reference.arap as stage03
-from grader.checks import all_checks, evaluate, reference_outputs, run_hidden_checks, wire
-from grader.checks.base import run_steps
+from grader.checks import check_namespace, seeded_cases, all_checks, evaluate, run_hidden_checks, wire
 from grader.harness.outputs import CaseOutput
 
-# The package re-exports the function bbw(), which hides the module attribute ``reference.bbw``.
-ref = importlib.import_module("reference.bbw")
+# The package re-exports the function bbw(), which hides the module attribute ``reference.bounded_biharmonic_weights``.
+ref = importlib.import_module("reference.bounded_biharmonic_weights")
 
 FUNCTIONS = ("biharmonic_matrix", "handle_constraints", "inverse_distance_weights", "unconstrained_biharmonic_weights", "bbw")
 
 
-@functools.cache
-def hidden(function, seed=0):
-    """The hidden cases of ``function`` for ``seed`` and the reference's outputs on them."""
-    cases = all_checks()[function].cases(np.random.default_rng(seed))
-    return cases, reference_outputs(cases)
-
-
 def grade(function, implementation, seed=0):
     """The checks' result for the reference with ``function`` replaced by ``implementation``."""
-    namespace = {**vars(ref), function: implementation}
-    cases, expected = hidden(function, seed)
-    outputs = []
-    for case in cases:
-        try:
-            outputs.append(CaseOutput(wire(run_steps(case, namespace.__getitem__)), None, None))
-        except Exception as exc:  # noqa: BLE001 - a buggy implementation may crash: that case fails
-            outputs.append(CaseOutput(None, f"{type(exc).__name__}: {exc}", None))
-    return evaluate(all_checks()[function], cases, outputs, expected)
+    return check_namespace(function, {**vars(ref), function: implementation}, seed)
 
 
 def failed(result):
-    """Names of the failed verdicts (and ``"error"`` for cases that raised)."""
-    return {v.name for c in result.cases for v in c.verdicts if not v.passed} | ({"error"} if any(c.error for c in result.cases) else set())
+    return result.failed_verdicts()
 
 
 def failed_in_every_case(result, verdict):
@@ -186,14 +168,14 @@ HOSTILE = {
 @pytest.mark.parametrize("hostile", HOSTILE)
 @pytest.mark.parametrize("function", FUNCTIONS)
 def test_hostile_outputs_give_failed_shape_verdicts(function, hostile):
-    cases, expected = hidden(function)
+    cases, expected = seeded_cases(function)
     result = evaluate(all_checks()[function], cases, [CaseOutput(HOSTILE[hostile], None, None)] * len(cases), expected)
     assert result.fraction == 0.0
     assert failed(result) == {"output shape"}
 
 
 def test_nan_weights_fail_cleanly():
-    cases, expected = hidden("bbw")
+    cases, expected = seeded_cases("bbw")
     outputs = []
     for value in expected:
         W = wire(value).copy()

@@ -8,8 +8,7 @@ from hypothesis import given, settings, strategies as st
 
 import reference.shape_matching as stage01
 import reference.sign_correction as ref
-from grader.checks import all_checks, evaluate, reference_outputs, run_hidden_checks, wire
-from grader.checks.base import run_steps
+from grader.checks import check_namespace, all_checks, evaluate, reference_outputs, run_hidden_checks
 from grader.checks.rotations import det_verdict, rotation_verdicts
 from grader.checks.shape_matching import random_rotation
 from grader.harness.outputs import CaseOutput
@@ -19,21 +18,11 @@ FUNCTIONS = ("optimal_rotation", "rigid_align")
 
 def grade(function, implementation, seed=0):
     """The checks' result for the reference with ``function`` replaced by ``implementation``."""
-    namespace = {**vars(ref), function: implementation}
-    checks = all_checks()[function]
-    cases = checks.cases(np.random.default_rng(seed))
-    outputs = []
-    for case in cases:
-        try:
-            outputs.append(CaseOutput(wire(run_steps(case, namespace.__getitem__)), None, None))
-        except Exception as exc:  # noqa: BLE001 - a buggy implementation may crash: that case fails
-            outputs.append(CaseOutput(None, f"{type(exc).__name__}: {exc}", None))
-    return evaluate(checks, cases, outputs, reference_outputs(cases))
+    return check_namespace(function, {**vars(ref), function: implementation}, seed)
 
 
 def failed(result):
-    """Names of the failed verdicts (and ``"error"`` for cases that raised)."""
-    return {v.name for c in result.cases for v in c.verdicts if not v.passed} | ({"error"} if any(c.error for c in result.cases) else set())
+    return result.failed_verdicts()
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

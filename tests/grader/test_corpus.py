@@ -15,18 +15,28 @@ import socket
 import sys
 import threading
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
+import nbformat
 import pytest
 
 from grader.contract import STAGES
-from grader.corpus import CorpusEntry, build_submission, load_corpus, student_id
+from grader.corpus import CorpusEntry, build_submission, load_corpus, student_id, student_notebook
 from grader.pipeline.run import GradeOptions, grade_class
 
 ROOT = Path(__file__).resolve().parents[2]
 ENTRIES = load_corpus(ROOT / "tests" / "corpus")
 SEED = 20240611
+
+pytestmark = [
+    pytest.mark.slow,
+    # one grading run for the module: under xdist (--dist loadgroup) every test here shares a worker
+    pytest.mark.xdist_group("corpus"),
+    # cells_duplicated hands in repeated cell ids on purpose; nbformat warns when it reads them
+    pytest.mark.filterwarnings("ignore::nbformat.warnings.DuplicateCellId"),
+]
 
 
 class Listener:
@@ -93,7 +103,7 @@ def _processes_with(text: str) -> list[int]:
 
 
 @pytest.fixture(scope="module")
-def graded(source_notebooks, tmp_path_factory) -> Graded:
+def graded(source_notebooks, tmp_path_factory) -> Iterator[Graded]:
     tmp = tmp_path_factory.mktemp("corpus")
     listener = Listener()
     params = {"REPO": str(ROOT), "PORT": str(listener.port), "TOKEN": secrets.token_hex(6)}
@@ -152,14 +162,48 @@ def expectation_failures(entry: CorpusEntry, result: dict, graded: Graded) -> li
     return problems
 
 
-@pytest.mark.parametrize("entry", ENTRIES, ids=lambda e: f"{e.kind}/{e.name}")
+def test_student_notebook_replaces_named_solution_cells_and_strips_the_markers(source_notebooks):
+    source = nbformat.read(source_notebooks["02_sign_correction"], as_version=4)
+    nb = student_notebook(source, {"rigid_align": "def rigid_align(P, Q, w=None):\n    return None\n"})
+    solution = {c.metadata["nbgrader"]["grade_id"]: c.source for c in nb.cells if (c.metadata.get("nbgrader") or {}).get("solution")}
+    original = {c.metadata["nbgrader"]["grade_id"]: c.source for c in source.cells if (c.metadata.get("nbgrader") or {}).get("solution")}
+    assert solution["solution_rigid_align"] == "def rigid_align(P, Q, w=None):\n    return None\n"
+    for gid, text in solution.items():
+        assert "### BEGIN SOLUTION" not in text and "### END SOLUTION" not in text
+        if gid != "solution_rigid_align":
+            kept = [line for line in original[gid].splitlines() if "### " not in line]
+            assert text.splitlines() == kept
+    assert [c.source for c in nb.cells if not (c.metadata.get("nbgrader") or {}).get("solution")] == [
+        c.source for c in source.cells if not (c.metadata.get("nbgrader") or {}).get("solution")
+    ]
+
+
+def test_every_corpus_entry_builds_into_its_student_folder(source_notebooks, tmp_path):
+    params = {"REPO": str(ROOT), "PORT": "1", "TOKEN": "t"}
+    for entry in ENTRIES:
+        path = build_submission(entry, source_notebooks[entry.notebook].parent, tmp_path, student_id(entry), params)
+        assert path == tmp_path / student_id(entry) / "deformation" / (entry.filename or f"{entry.notebook}.ipynb")
+        assert "@@" not in path.read_text(errors="replace")
+
+
+def _param(entry: CorpusEntry):
+    # strict: once the check is fixed the test passes, fails as XPASS, and WEAK_CHECK must go
+    marks = [pytest.mark.xfail(strict=True, reason=entry.weak_check)] if entry.weak_check else []
+    return pytest.param(entry, id=f"{entry.kind}/{entry.name}", marks=marks)
+
+
+@pytest.mark.parametrize("entry", [_param(e) for e in ENTRIES])
 def test_corpus_entry_gets_exactly_its_expected_grade(graded, entry):
     result = graded.result(entry)
     assert not expectation_failures(entry, result, graded), "\n".join(expectation_failures(entry, result, graded))
     if entry.kind == "correct":
         assert result["score"] == result["max_score"]
-    others = [r for (sid, nb), r in graded.results.items() if sid == student_id(entry) and nb != entry.notebook]
-    assert {r["status"] for r in others} == {"missing"}
+    others = {nb: r for (sid, nb), r in graded.results.items() if sid == student_id(entry) and nb != entry.notebook}
+    if entry.source:
+        # the file's own metadata names its notebook: it is graded as that one too, as a renamed file
+        moved = others.pop(entry.source)
+        assert moved["score"] == moved["max_score"] and any("renamed file" in n for n in moved["notes"])
+    assert {r["status"] for r in others.values()} == {"missing"}
 
 
 def test_grades_csv_has_one_row_per_student_and_notebook(graded):
@@ -171,15 +215,18 @@ def test_grades_csv_has_one_row_per_student_and_notebook(graded):
 
 def test_corpus_summary(graded, capsys):
     counts = {kind: [0, 0] for kind in ("buggy", "correct", "hostile")}
-    lines = []
+    weak, lines = [], []
     for entry in ENTRIES:
         result = graded.result(entry)
-        problems = expectation_failures(entry, result, graded)
-        counts[entry.kind][0] += not problems
-        counts[entry.kind][1] += 1
-        flag = "ok " if not problems else "BAD"
+        held = not expectation_failures(entry, result, graded)
+        if entry.weak_check:
+            weak.append(entry.name)
+        else:
+            counts[entry.kind][0] += held
+            counts[entry.kind][1] += 1
+        flag = "ok " if held else ("weak" if entry.weak_check else "BAD")
         lines.append(
-            f"  {flag} {entry.kind:<8} {entry.name:<34} {entry.notebook:<19} {result['status']:<22} "
+            f"  {flag:<4} {entry.kind:<8} {entry.name:<34} {entry.notebook:<19} {result['status']:<22} "
             f"{result['score']:g}/{result['max_score']:g}  {result.get('duration_s', 0):5.1f} s"
         )
     with capsys.disabled():
@@ -188,6 +235,7 @@ def test_corpus_summary(graded, capsys):
         print(
             f"  buggy caught (exactly their functions lose): {counts['buggy'][0]}/{counts['buggy'][1]}; "
             f"correct with full marks: {counts['correct'][0]}/{counts['correct'][1]}; "
-            f"hostile stopped: {counts['hostile'][0]}/{counts['hostile'][1]}"
+            f"hostile stopped: {counts['hostile'][0]}/{counts['hostile'][1]}; "
+            f"known weak checks (expected failures): {len(weak)} {weak}"
         )
     assert all(ok == total for ok, total in counts.values())

@@ -317,3 +317,29 @@ def test_hidden_packages_and_paths_inside_mounted_trees_are_masked(tmp_path, mon
     )
     done = subprocess.run(wrap_command([sys.executable, "-c", code], spec), capture_output=True, text=True, timeout=60)
     assert done.stdout == "['fake_reference', 'gradebook.db']\n[]\nPermissionError\nFalse\n", done.stderr
+
+
+def test_files_larger_than_the_limit_cannot_be_written_anywhere(tmp_path):
+    (tmp_path / "student").mkdir()
+    spec = SandboxSpec(workdir=tmp_path / "student", file_bytes=2**20)
+    km, kc = _start(spec)
+    try:
+        out, reply = _run(kc, """
+            import errno
+            results = []
+            for path in ("big_in_workdir.bin", "/tmp/big_in_tmp.bin"):
+                try:
+                    with open(path, "wb") as fh:
+                        for _ in range(4):
+                            fh.write(b"x" * 2**20)
+                    results.append("written")
+                except OSError as exc:
+                    results.append(errno.errorcode[exc.errno])
+            print(results)
+        """)
+        assert reply["status"] == "ok"
+        assert out.strip() == "['EFBIG', 'EFBIG']" or "written" not in out, out
+        assert (tmp_path / "student" / "big_in_workdir.bin").stat().st_size <= 2**20
+    finally:
+        kc.stop_channels()
+        km.shutdown_kernel(now=True)

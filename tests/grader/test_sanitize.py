@@ -1,7 +1,6 @@
 """Submitted notebooks are repaired against the source before anything runs."""
 
 import copy
-import json
 
 import nbformat
 import pytest

@@ -5,7 +5,6 @@ import pytest
 import scipy.sparse as sp
 
 from grader.harness.fixtures import Case, Ref, Step, write_fixtures
-from grader.harness.kernel_side import __deformlab_collect__ as _collect_impl
 from grader.harness.outputs import OutputError, read_outputs
 import grader.harness.kernel_side as kernel_side
 

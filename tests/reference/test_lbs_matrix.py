@@ -4,7 +4,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from scipy.spatial.distance import cdist
 
-from reference.lbs import lbs_matrix
+from reference.linear_blend_skinning import lbs_matrix
 from starter.meshes import load_mesh
 
 seeds = st.integers(0, 2**32 - 1)

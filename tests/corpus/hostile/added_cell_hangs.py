@@ -1,6 +1,7 @@
 import nbformat
 
 NOTEBOOK = "05_lbs"
+STATUS = "graded-with-incidents"
 DESCRIPTION = "an added cell after the solutions sleeps forever (no contract call, so it runs when grading)"
 
 

@@ -1,4 +1,5 @@
 NOTEBOOK = "01_shape_matching"
+STATUS = "graded-with-incidents"
 DESCRIPTION = "the solution cell of optimal_orthogonal ignores SIGINT and loops forever after the def"
 SOLUTIONS = {
     "optimal_orthogonal": '''import signal

@@ -1,4 +1,5 @@
 NOTEBOOK = "01_shape_matching"
+STATUS = "graded-with-incidents"
 DESCRIPTION = "orthogonal_align() calls os._exit(1): the kernel dies while its outputs are collected"
 SOLUTIONS = {
     "orthogonal_align": '''import os

@@ -1,11 +1,12 @@
 NOTEBOOK = "05_lbs"
-DESCRIPTION = "lbs_matrix() reads address 0 through ctypes: a segmentation fault in the kernel"
+STATUS = "graded-with-incidents"
+DESCRIPTION = "lbs_matrix() reads memory at address 8 through ctypes: a segmentation fault kills the kernel"
 SOLUTIONS = {
     "lbs_matrix": '''import ctypes
 
 
 def lbs_matrix(V, W):
-    return ctypes.string_at(0, 64)
+    return ctypes.c_int.from_address(8).value
 ''',
 }
 LOSES = {"lbs_matrix"}

@@ -1,0 +1,22 @@
+"""Fixtures for the grader's tests."""
+
+from __future__ import annotations
+
+import shutil
+import tempfile
+from pathlib import Path
+
+import pytest
+
+
+@pytest.fixture
+def tmp_path():
+    """A short temporary folder.
+
+    Kernels talk over Unix sockets inside their workdir, and a socket path has
+    at most 107 bytes; pytest's own tmp_path (with the xdist worker and the
+    test's name in it) can be longer than that.
+    """
+    path = Path(tempfile.mkdtemp(prefix="dl-test-"))
+    yield path
+    shutil.rmtree(path, ignore_errors=True)
