@@ -35,7 +35,7 @@ demo: setup
 	$(BIN)/deformlab demo
 
 test: setup
-	$(BIN)/python -m pytest -n 2 --dist loadgroup --durations=20
+	$(BIN)/python -m pytest -n 2 --dist loadscope --durations=20
 
 bench: setup
 	$(BIN)/python -m benchmarks

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -24,3 +25,30 @@ def source_notebooks(tmp_path_factory) -> dict[str, Path]:
 
     out = tmp_path_factory.mktemp("source")
     return {p.stem: p for p in build_sources(ROOT / "notebooks", out, "deformation")}
+
+
+# Keyed by the controlling pytest process: xdist workers are its children.
+SUMMARIES = Path(tempfile.gettempdir()) / (
+    f"deformlab-test-summaries-{os.getppid() if os.getenv('PYTEST_XDIST_WORKER') else os.getpid()}"
+)
+
+
+@pytest.fixture
+def report_summary():
+    """``report_summary(name, text)``: print ``text`` at the end of the run, also from an xdist worker."""
+
+    def write(name: str, text: str) -> None:
+        SUMMARIES.mkdir(exist_ok=True)
+        (SUMMARIES / f"{name}.txt").write_text(text)
+
+    return write
+
+
+def pytest_terminal_summary(terminalreporter):
+    if os.getenv("PYTEST_XDIST_WORKER") or not SUMMARIES.is_dir():
+        return
+    for path in sorted(SUMMARIES.glob("*.txt")):
+        terminalreporter.section(path.stem)
+        terminalreporter.write_line(path.read_text())
+        path.unlink()
+    SUMMARIES.rmdir()
