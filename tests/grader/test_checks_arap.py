@@ -11,7 +11,7 @@ import scipy.sparse.linalg as spla
 
 import reference.arap as ref
 from reference.meshes import edges
-from grader.checks import check_namespace, seeded_cases, all_checks, evaluate, run_hidden_checks, wire
+from grader.checks import check_namespace, seeded_cases, all_checks, evaluate, wire
 from grader.harness.outputs import CaseOutput
 
 FUNCTIONS = (
@@ -34,13 +34,6 @@ def grade(function, seed=0, **replacements):
 
 def failed(result):
     return result.failed_verdicts()
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_reference_passes_every_hidden_case(function, seed):
-    result = run_hidden_checks(function, vars(ref), seed)
-    assert result.fraction == 1.0 and len(result.cases) >= 4
 
 
 # --- a student's own precomputation and global steps, built from the contract's definitions ---

@@ -11,7 +11,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 import reference.arap as stage03
-from grader.checks import check_namespace, seeded_cases, all_checks, evaluate, run_hidden_checks, wire
+from grader.checks import check_namespace, seeded_cases, all_checks, evaluate, wire
 from grader.harness.outputs import CaseOutput
 
 # The package re-exports the function bbw(), which hides the module attribute ``reference.bounded_biharmonic_weights``.
@@ -31,13 +31,6 @@ def failed(result):
 
 def failed_in_every_case(result, verdict):
     return all(any(v.name == verdict and not v.passed for v in c.verdicts) for c in result.cases)
-
-
-@pytest.mark.parametrize("seed", [0, 1])
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_reference_passes_every_hidden_case(function, seed):
-    result = run_hidden_checks(function, vars(ref), seed)
-    assert result.fraction == 1.0 and len(result.cases) >= 4
 
 
 def _solve_with_fixed_rows(A, b, bc):

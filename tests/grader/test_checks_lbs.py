@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from grader.checks import check_namespace, all_checks, evaluate, reference_outputs, run_hidden_checks, wire
+from grader.checks import check_namespace, all_checks, evaluate, reference_outputs, wire
 from grader.harness.outputs import CaseOutput
 
 # The package re-exports the function lbs(), which hides the module attribute ``reference.linear_blend_skinning``.
@@ -24,13 +24,6 @@ def grade(function, implementation, seed=0):
 
 def failed(result):
     return result.failed_verdicts()
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_reference_passes_every_hidden_case(function, seed):
-    result = run_hidden_checks(function, vars(ref), seed)
-    assert result.fraction == 1.0 and len(result.cases) >= 4
 
 
 def test_a_sparse_lbs_matrix_is_accepted():

@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse as sp
 
 import reference.meshes as ref
-from grader.checks import check_namespace, all_checks, evaluate, reference_outputs, run_hidden_checks
+from grader.checks import check_namespace, all_checks, evaluate, reference_outputs
 from grader.checks.meshes import closed_mesh_with_hole, disjoint_union, perforated_slab, relabel
 from grader.harness.outputs import CaseOutput
 from starter import shapes
@@ -22,19 +22,6 @@ def grade(function, implementation, seed=0):
 
 def failed(result):
     return result.failed_verdicts()
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_reference_passes_every_hidden_case(function, seed):
-    result = run_hidden_checks(function, vars(ref), seed)
-    assert result.fraction == 1.0 and len(result.cases) >= 4
-
-
-def test_every_function_of_the_stage_has_checks():
-    for function in FUNCTIONS:
-        checks = all_checks()[function]
-        assert checks.function == function and checks.description
 
 
 def _half_edges(F):

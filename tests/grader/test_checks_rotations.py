@@ -8,7 +8,7 @@ from hypothesis import given, settings, strategies as st
 
 import reference.shape_matching as stage01
 import reference.sign_correction as ref
-from grader.checks import check_namespace, all_checks, evaluate, reference_outputs, run_hidden_checks
+from grader.checks import check_namespace, all_checks, evaluate, reference_outputs
 from grader.checks.rotations import det_verdict, rotation_verdicts
 from grader.checks.shape_matching import random_rotation
 from grader.harness.outputs import CaseOutput
@@ -23,13 +23,6 @@ def grade(function, implementation, seed=0):
 
 def failed(result):
     return result.failed_verdicts()
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_reference_passes_every_hidden_case(function, seed):
-    result = run_hidden_checks(function, vars(ref), seed)
-    assert result.fraction == 1.0 and len(result.cases) >= 4
 
 
 def rotation_without_sign_correction(S):

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import reference.shape_matching as ref
-from grader.checks import check_namespace, all_checks, evaluate, reference_outputs, run_hidden_checks, wire
+from grader.checks import check_namespace, all_checks, evaluate, reference_outputs, wire
 from grader.checks.shape_matching import orthonormal_verdict, random_rotation, trace_verdict
 from grader.harness.outputs import CaseOutput
 
@@ -21,13 +21,6 @@ def grade(function, implementation, seed=0):
 
 def failed(result):
     return result.failed_verdicts()
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_reference_passes_every_hidden_case(function, seed):
-    result = run_hidden_checks(function, vars(ref), seed)
-    assert result.fraction == 1.0 and len(result.cases) >= 4
 
 
 def _weights(P, w):
