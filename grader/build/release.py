@@ -12,6 +12,7 @@ Checks, each failing the release loudly:
 
 from __future__ import annotations
 
+import gc
 import json
 import os
 import re
@@ -180,6 +181,7 @@ def _execute(path: Path, env_extra: dict[str, str], timeout: float = 300) -> nbf
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
+        gc.collect()  # see grader.pipeline.execute: kernel clients must not be finalized inside ast.parse
     return nb
 
 

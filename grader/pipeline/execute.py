@@ -9,6 +9,7 @@ replayed, and execution goes on with the next cell.
 
 from __future__ import annotations
 
+import gc
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -142,7 +143,7 @@ def execute(
             with client.setup_kernel():
                 if not _replay(client, nb, replay, result):
                     continue
-                while items:
+                while items and time.monotonic() - start <= options.wall:
                     kind, what = items[0]
                     if kind == "cell":
                         client.execute_cell(nb.cells[what], what)
@@ -176,7 +177,11 @@ def execute(
                 km.shutdown_kernel(now=True)
             except Exception:  # noqa: BLE001 - it is already gone
                 pass
-        barren_lives = barren_lives + 1 if len(items) == done_before else 0
+            # Collect the dead kernel's client objects now: CPython 3.11 fails ast.parse with
+            # "AST constructor recursion depth mismatch" when their finalizers run inside it.
+            del client, km
+            gc.collect()
+        barren_lives = barren_lives + 1 if len(items) == done_before and time.monotonic() - start <= options.wall else 0
     result.seconds = time.monotonic() - start
     return result
 

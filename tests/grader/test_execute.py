@@ -60,3 +60,14 @@ def test_memory_blowups_stay_inside_the_kernel(tmp_path):
     result, workdir = run(tmp_path, nb, ["big"])
     out = read_outputs("big", workdir / "outputs", 1).cases[0]
     assert out.error is not None and "MemoryError" in out.error
+
+
+def test_the_notebook_wall_limit_stops_cells_that_each_stay_under_the_cell_timeout(tmp_path):
+    nb = notebook("import time\ntime.sleep(2)", "time.sleep(2)", "time.sleep(2)", "def late(x):\n    return x")
+    workdir = tmp_path / "w"
+    (workdir / "outputs").mkdir(parents=True)
+    write_fixtures("late", [Case.call("one", "late", np.ones(3))], workdir / "fixtures")
+    result = execute(nb, list(range(4)), ["late"], workdir, workdir / "fixtures", workdir / "outputs",
+                     ExecuteOptions(timeout=10, wall=3, memory_bytes=2 * 2**30))
+    assert "wall-clock limit" in result.collection_failures["late"]
+    assert result.seconds < 15
