@@ -1,4 +1,4 @@
-"""The stage 03 checks pass the reference, fail realistic mistakes and digest hostile outputs."""
+"""The stage 03 checks pass the reference, fail realistic mistakes."""
 
 from __future__ import annotations
 
@@ -211,24 +211,6 @@ def test_every_solve_case_separates_the_step_energy_from_fresh_rotations():
     assert result.fraction == 0.0
 
 
-HOSTILE = {
-    "wrong shape": np.zeros((3, 7, 2)),
-    "NaN": np.full((5, 3), np.nan),
-    "a tuple where an array is expected": (np.zeros(3), np.zeros(3), np.zeros(3)),
-    "an int where a tuple is expected": 3,
-    "a pair of the wrong shapes": (np.zeros((4, 4)), np.zeros((2, 2))),
-    "text": np.array("U"),
-    "a sparse matrix of the wrong shape": sp.csr_matrix(np.eye(4)),
-}
-
-
-@pytest.mark.parametrize("hostile", HOSTILE)
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_hostile_outputs_give_failed_verdicts(function, hostile):
-    cases, expected = seeded_cases(function)
-    result = evaluate(all_checks()[function], cases, [CaseOutput(HOSTILE[hostile], None, None)] * len(cases), expected)
-    assert result.fraction == 0.0
-    assert "readable output" not in failed(result)
 
 
 def test_nan_energies_fail_cleanly():

@@ -1,4 +1,4 @@
-"""The stage 04 checks pass the reference, fail realistic mistakes and digest hostile outputs."""
+"""The stage 04 checks pass the reference, fail realistic mistakes."""
 
 from __future__ import annotations
 
@@ -147,24 +147,6 @@ def test_an_independent_bounded_biharmonic_solver_passes():
     assert grade("bbw", libigl_bbw_normalized).fraction == 1.0
 
 
-HOSTILE = {
-    "wrong shape": np.zeros((3, 7, 2)),
-    "NaN": np.full((5, 3), np.nan),
-    "a tuple where an array is expected": (np.zeros(3), np.zeros(3), np.zeros(3)),
-    "an int where a tuple is expected": 3,
-    "a pair of the wrong shapes": (np.zeros((4, 4)), np.zeros((2, 2))),
-    "text": np.array("W"),
-    "a sparse matrix of the wrong shape": sp.csr_matrix(np.eye(4)),
-}
-
-
-@pytest.mark.parametrize("hostile", HOSTILE)
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_hostile_outputs_give_failed_shape_verdicts(function, hostile):
-    cases, expected = seeded_cases(function)
-    result = evaluate(all_checks()[function], cases, [CaseOutput(HOSTILE[hostile], None, None)] * len(cases), expected)
-    assert result.fraction == 0.0
-    assert failed(result) == {"output shape"}
 
 
 def test_nan_weights_fail_cleanly():

@@ -1,4 +1,4 @@
-"""The stage 05 checks pass the reference, fail realistic mistakes and digest hostile outputs."""
+"""The stage 05 checks pass the reference, fail realistic mistakes."""
 
 from __future__ import annotations
 
@@ -79,24 +79,6 @@ def test_column_order_feedback_names_the_layout():
     assert "coordinate-major" in grade("lbs_matrix", lbs_matrix_coordinate_major).summary()
 
 
-HOSTILE = {
-    "wrong shape": np.zeros((3, 7, 2)),
-    "NaN": np.full((4, 3), np.nan),
-    "a tuple where an array is expected": (np.zeros(3), np.zeros(3)),
-    "an int": 3,
-    "text": np.array("U"),
-    "a sparse matrix of the wrong shape": sp.csr_matrix(np.eye(5)),
-}
-
-
-@pytest.mark.parametrize("hostile", HOSTILE)
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_hostile_outputs_give_failed_shape_verdicts(function, hostile):
-    checks = all_checks()[function]
-    cases = checks.cases(np.random.default_rng(3))
-    result = evaluate(checks, cases, [CaseOutput(HOSTILE[hostile], None, None)] * len(cases), reference_outputs(cases))
-    assert result.fraction == 0.0
-    assert failed(result) == {"output shape"}
 
 
 def test_nan_in_an_otherwise_correct_output_fails_cleanly():

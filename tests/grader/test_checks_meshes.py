@@ -1,15 +1,13 @@
-"""The stage 00 checks pass the reference, fail realistic mistakes and digest hostile outputs."""
+"""The stage 00 checks fail realistic mistakes and accept correct variations."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-import scipy.sparse as sp
 
 import reference.meshes as ref
-from grader.checks import check_namespace, all_checks, evaluate, reference_outputs
+from grader.checks import check_namespace
 from grader.checks.meshes import closed_mesh_with_hole, disjoint_union, perforated_slab, relabel
-from grader.harness.outputs import CaseOutput
 from starter import shapes
 
 FUNCTIONS = ("edges", "euler_characteristic", "boundary_loop_count", "genus")
@@ -77,25 +75,6 @@ def test_edge_count_and_edges_are_checked_against_the_mesh():
     assert {"edge count", "same edges as the mesh"} <= failed(grade("edges", missing_one))
 
 
-HOSTILE = {
-    "wrong shape": np.zeros((3, 7, 2)),
-    "NaN": np.full((4, 2), np.nan),
-    "a tuple where an array is expected": (np.zeros((2, 2)), np.zeros((2, 2))),
-    "a float where an integer is expected": 2.5,
-    "text": np.array("twelve"),
-    "a sparse matrix": sp.csr_matrix(np.eye(3)),
-}
-
-
-@pytest.mark.parametrize("hostile", HOSTILE)
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_hostile_outputs_give_failed_shape_verdicts(function, hostile):
-    checks = all_checks()[function]
-    cases = checks.cases(np.random.default_rng(3))
-    result = evaluate(checks, cases, [CaseOutput(HOSTILE[hostile], None, None)] * len(cases), reference_outputs(cases))
-    assert result.fraction == 0.0
-    # Every failure is a named check, never a crash of the verifier on odd output.
-    assert "readable output" not in failed(result)
 
 
 def test_hidden_meshes_have_the_topology_their_labels_say():

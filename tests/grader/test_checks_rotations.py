@@ -1,4 +1,4 @@
-"""The stage 02 checks pass the reference, fail realistic mistakes and digest hostile outputs."""
+"""The stage 02 checks pass the reference, fail realistic mistakes."""
 
 from __future__ import annotations
 
@@ -8,10 +8,9 @@ from hypothesis import given, settings, strategies as st
 
 import reference.shape_matching as stage01
 import reference.sign_correction as ref
-from grader.checks import check_namespace, all_checks, evaluate, reference_outputs
+from grader.checks import check_namespace, all_checks
 from grader.checks.rotations import det_verdict, rotation_verdicts
 from grader.checks.shape_matching import random_rotation
-from grader.harness.outputs import CaseOutput
 
 FUNCTIONS = ("optimal_rotation", "rigid_align")
 
@@ -102,23 +101,3 @@ def test_rotation_verdicts_accept_rotations_and_reject_reflections(seed, d):
     mirror = R @ np.diag([-1.0] + [1.0] * (d - 1))
     assert not det_verdict(mirror).passed
     assert "reflection" in det_verdict(mirror).detail
-
-
-HOSTILE = {
-    "wrong shape": np.zeros((3, 7, 2)),
-    "NaN": np.full((3, 3), np.nan),
-    "a tuple where an array is expected": (np.zeros(3), np.zeros(3), np.zeros(3)),
-    "an int where a tuple is expected": 3,
-    "a pair of the wrong shapes": (np.zeros((4, 4)), np.zeros(5)),
-    "text": np.array("R"),
-}
-
-
-@pytest.mark.parametrize("hostile", HOSTILE)
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_hostile_outputs_give_failed_shape_verdicts(function, hostile):
-    checks = all_checks()[function]
-    cases = checks.cases(np.random.default_rng(3))
-    result = evaluate(checks, cases, [CaseOutput(HOSTILE[hostile], None, None)] * len(cases), reference_outputs(cases))
-    assert result.fraction == 0.0
-    assert failed(result) == {"output shape"}

@@ -1,4 +1,4 @@
-"""The stage 01 checks pass the reference, fail realistic mistakes and digest hostile outputs."""
+"""The stage 01 checks pass the reference, fail realistic mistakes."""
 
 from __future__ import annotations
 
@@ -108,24 +108,6 @@ def test_orthonormal_and_trace_verdicts_accept_exact_maximizers(seed, d, k):
     assert not trace_verdict(Q, S, sigma.sum(axis=1), "optimal").passed
 
 
-HOSTILE = {
-    "wrong shape": np.zeros((3, 7, 2)),
-    "NaN": np.full((3, 3), np.nan),
-    "a tuple where an array is expected": (np.zeros(3), np.zeros(3), np.zeros(3)),
-    "an int where a tuple is expected": 3,
-    "a pair of the wrong shapes": (np.zeros((4, 4)), np.zeros(5)),
-    "text": np.array("R"),
-}
-
-
-@pytest.mark.parametrize("hostile", HOSTILE)
-@pytest.mark.parametrize("function", FUNCTIONS)
-def test_hostile_outputs_give_failed_shape_verdicts(function, hostile):
-    checks = all_checks()[function]
-    cases = checks.cases(np.random.default_rng(3))
-    result = evaluate(checks, cases, [CaseOutput(HOSTILE[hostile], None, None)] * len(cases), reference_outputs(cases))
-    assert result.fraction == 0.0
-    assert "readable output" not in failed(result)
 
 
 def test_nan_in_a_pair_fails_cleanly():
