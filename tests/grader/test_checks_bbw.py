@@ -1,4 +1,4 @@
-"""The stage 04 checks pass the reference, fail realistic mistakes."""
+"""The stage 04 checks fail realistic mistakes and accept correct variations."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The stage 01 checks pass the reference, fail realistic mistakes."""
+"""The stage 01 checks fail realistic mistakes and accept correct variations."""
 
 from __future__ import annotations
 
