@@ -13,6 +13,7 @@ from pathlib import Path
 import nbformat
 from nbclient import NotebookClient
 
+from grader.build.release import QUIET_KERNEL
 from grader.build.source_notebook import build_sources
 from grader.paths import course_paths
 
@@ -27,7 +28,8 @@ def main() -> dict:
         for path in sources:
             nb = nbformat.read(path, as_version=4)
             start = time.perf_counter()
-            NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}}).execute()
+            NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}},
+                           extra_arguments=QUIET_KERNEL).execute()
             seconds = time.perf_counter() - start
             total += seconds
             figures[f"{path.stem} (s)"] = seconds

@@ -30,7 +30,8 @@ def check_notebook(path: Path, timeout: float = 120.0) -> int:
         return 2
     os.environ.setdefault("DEFORMLAB_NO_PLOTS", "1")  # pictures are for the notebook, not for this table
     client = NotebookClient(nb, timeout=timeout, allow_errors=True, kernel_name="python3",
-                            resources={"metadata": {"path": str(path.parent.resolve())}})
+                            resources={"metadata": {"path": str(path.parent.resolve())}},
+                            extra_arguments=["--IPKernelApp.log_level=ERROR"])  # no TCP-encryption notice per kernel
     try:
         client.execute()
     except Exception as exc:  # noqa: BLE001 - a timeout or a dead kernel ends the run, not the report

@@ -75,6 +75,10 @@ in a cell that does not call a graded function.
 """
 
 
+#: A local kernel's own notice about unencrypted TCP, printed at every start, is noise here.
+QUIET_KERNEL = ["--IPKernelApp.log_level=ERROR"]
+
+
 class ReleaseError(RuntimeError):
     """A release check failed."""
 
@@ -174,7 +178,10 @@ def _execute(path: Path, env_extra: dict[str, str], timeout: float = 300) -> nbf
     old = {k: os.environ.get(k) for k in env_extra}
     os.environ.update(env_extra)
     try:
-        NotebookClient(nb, timeout=timeout, allow_errors=True, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}}).execute()
+        NotebookClient(
+            nb, timeout=timeout, allow_errors=True, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}},
+            extra_arguments=QUIET_KERNEL,
+        ).execute()
     finally:
         for k, v in old.items():
             if v is None:
