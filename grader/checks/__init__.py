@@ -106,8 +106,8 @@ def wire(value: Any) -> Any:
 
 
 @functools.lru_cache(maxsize=128)
-def seeded_cases(function: str, seed: int = 0) -> tuple[list[Case], list[Any]]:
-    """The cases of ``function`` drawn with ``default_rng(seed)`` and the reference's outputs on them."""
+def seeded_cases(function: str, seed: int | tuple[int, ...] = 0) -> tuple[list[Case], list[Any]]:
+    """The cases of ``function`` drawn with ``default_rng(seed)`` and the reference's outputs on them (cached)."""
     cases = all_checks()[function].cases(np.random.default_rng(seed))
     return cases, reference_outputs(cases)
 

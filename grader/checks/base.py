@@ -25,7 +25,6 @@ __all__ = [
     "as_array",
     "as_int",
     "as_float",
-    "as_matrix",
     "as_pair",
     "close",
     "verdict",
@@ -88,11 +87,6 @@ def as_int(value: Any, what: str = "output") -> int:
 
 def as_float(value: Any, what: str = "output") -> float:
     return float(as_array(value, (), what))
-
-
-def as_matrix(value: Any, shape: tuple, what: str = "output") -> np.ndarray:
-    """Dense float64 matrix from a dense or sparse output."""
-    return as_array(value, shape, what)
 
 
 def as_pair(value: Any, what: str = "output") -> tuple:

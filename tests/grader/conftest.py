@@ -33,3 +33,20 @@ def collect_kernel_leftovers():
     """
     yield
     gc.collect()
+
+
+@pytest.fixture(scope="session")
+def host_cmdlines():
+    """``host_cmdlines() -> list[bytes]``: the raw command line of every process on the host."""
+
+    def read() -> list[bytes]:
+        found = []
+        for entry in Path("/proc").iterdir():
+            if entry.name.isdigit():
+                try:
+                    found.append((entry / "cmdline").read_bytes())
+                except OSError:  # the process exited while we were scanning
+                    pass
+        return found
+
+    return read

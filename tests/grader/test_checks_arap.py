@@ -14,18 +14,6 @@ from reference.meshes import edges
 from grader.checks import check_namespace, seeded_cases, all_checks, evaluate, wire
 from grader.harness.outputs import CaseOutput
 
-FUNCTIONS = (
-    "cotangent_weights",
-    "cotangent_laplacian",
-    "arap_covariances",
-    "arap_rotations",
-    "arap_energy",
-    "arap_precompute",
-    "arap_global_step",
-    "arap_solve",
-    "laplacian_editing",
-)
-
 
 def grade(function, seed=0, **replacements):
     """The checks' result for the reference with some contract functions replaced."""
@@ -209,8 +197,6 @@ def test_realistic_mistakes_fail(mistake):
 def test_every_solve_case_separates_the_step_energy_from_fresh_rotations():
     result = grade("arap_solve", arap_precompute=student_precompute, arap_solve=student_solve(energy_of="fresh rotations"))
     assert result.fraction == 0.0
-
-
 
 
 def test_nan_energies_fail_cleanly():

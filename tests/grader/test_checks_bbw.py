@@ -17,8 +17,6 @@ from grader.harness.outputs import CaseOutput
 # The package re-exports the function bbw(), which hides the module attribute ``reference.bounded_biharmonic_weights``.
 ref = importlib.import_module("reference.bounded_biharmonic_weights")
 
-FUNCTIONS = ("biharmonic_matrix", "handle_constraints", "inverse_distance_weights", "unconstrained_biharmonic_weights", "bbw")
-
 
 def grade(function, implementation, seed=0):
     """The checks' result for the reference with ``function`` replaced by ``implementation``."""
@@ -145,8 +143,6 @@ def test_unconstrained_weights_by_another_sparse_solver_pass():
 
 def test_an_independent_bounded_biharmonic_solver_passes():
     assert grade("bbw", libigl_bbw_normalized).fraction == 1.0
-
-
 
 
 def test_nan_weights_fail_cleanly():

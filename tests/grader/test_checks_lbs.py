@@ -14,8 +14,6 @@ from grader.harness.outputs import CaseOutput
 # The package re-exports the function lbs(), which hides the module attribute ``reference.linear_blend_skinning``.
 ref = importlib.import_module("reference.linear_blend_skinning")
 
-FUNCTIONS = ("lbs_matrix", "lbs")
-
 
 def grade(function, implementation, seed=0):
     """The checks' result for the reference with ``function`` replaced by ``implementation``."""
@@ -77,8 +75,6 @@ def test_identity_transforms_are_checked_against_the_rest_positions():
 
 def test_column_order_feedback_names_the_layout():
     assert "coordinate-major" in grade("lbs_matrix", lbs_matrix_coordinate_major).summary()
-
-
 
 
 def test_nan_in_an_otherwise_correct_output_fails_cleanly():

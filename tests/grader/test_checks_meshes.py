@@ -10,8 +10,6 @@ from grader.checks import check_namespace
 from grader.checks.meshes import closed_mesh_with_hole, disjoint_union, perforated_slab, relabel
 from starter import shapes
 
-FUNCTIONS = ("edges", "euler_characteristic", "boundary_loop_count", "genus")
-
 
 def grade(function, implementation, seed=0):
     """The checks' result for the reference with ``function`` replaced by ``implementation``."""
@@ -73,8 +71,6 @@ def test_edge_count_and_edges_are_checked_against_the_mesh():
         return ref.edges(F)[1:]
 
     assert {"edge count", "same edges as the mesh"} <= failed(grade("edges", missing_one))
-
-
 
 
 def test_hidden_meshes_have_the_topology_their_labels_say():

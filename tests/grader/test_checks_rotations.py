@@ -12,8 +12,6 @@ from grader.checks import check_namespace, all_checks
 from grader.checks.rotations import det_verdict, rotation_verdicts
 from grader.checks.shape_matching import random_rotation
 
-FUNCTIONS = ("optimal_rotation", "rigid_align")
-
 
 def grade(function, implementation, seed=0):
     """The checks' result for the reference with ``function`` replaced by ``implementation``."""

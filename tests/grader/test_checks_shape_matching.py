@@ -11,8 +11,6 @@ from grader.checks import check_namespace, all_checks, evaluate, reference_outpu
 from grader.checks.shape_matching import orthonormal_verdict, random_rotation, trace_verdict
 from grader.harness.outputs import CaseOutput
 
-FUNCTIONS = ("centroid", "covariance_matrix", "optimal_orthogonal", "orthogonal_align")
-
 
 def grade(function, implementation, seed=0):
     """The checks' result for the reference with ``function`` replaced by ``implementation``."""
@@ -106,8 +104,6 @@ def test_orthonormal_and_trace_verdicts_accept_exact_maximizers(seed, d, k):
     # Any other orthogonal matrix falls short of Σσ on a generic S.
     Q = np.stack([random_rotation(rng, d) for _ in range(k)]) @ R
     assert not trace_verdict(Q, S, sigma.sum(axis=1), "optimal").passed
-
-
 
 
 def test_nan_in_a_pair_fails_cleanly():

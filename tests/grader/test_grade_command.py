@@ -6,18 +6,15 @@ import json
 import nbformat
 import pytest
 
-from grader.build.lift import BEGIN_SOLUTION, END_SOLUTION
 from grader.cli import main
+from grader.corpus import student_notebook
 
 NOTEBOOK = "01_shape_matching"
 
 
 def as_student(source_nb):
-    """The source notebook as a student who solved it would submit it (no markers, no hidden tests)."""
-    nb = nbformat.read(source_nb, as_version=4)
-    for cell in nb.cells:
-        cell.source = "\n".join(l for l in cell.source.splitlines() if l.strip() not in (BEGIN_SOLUTION, END_SOLUTION))
-    return nb
+    """The source notebook as a student who solved it would submit it."""
+    return student_notebook(nbformat.read(source_nb, as_version=4), {})
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,7 @@ import zipfile
 
 import nbformat
 
-from grader.build.lift import BEGIN_SOLUTION, END_SOLUTION
+from grader.corpus import student_notebook
 from grader.gradescope import build_autograder_zip, run
 
 
@@ -23,9 +23,7 @@ def test_the_zip_holds_executable_scripts_and_the_course(tmp_path):
 def test_results_json_has_one_test_per_checked_function(tmp_path, source_notebooks):
     root = tmp_path / "autograder"
     (root / "submission").mkdir(parents=True)
-    nb = nbformat.read(source_notebooks["02_sign_correction"], as_version=4)
-    for cell in nb.cells:
-        cell.source = "\n".join(l for l in cell.source.splitlines() if l.strip() not in (BEGIN_SOLUTION, END_SOLUTION))
+    nb = student_notebook(nbformat.read(source_notebooks["02_sign_correction"], as_version=4), {})
     nbformat.write(nb, root / "submission" / "02_sign_correction.ipynb")
     results = json.loads(run(root).read_text())
     tests = {t["name"]: t for t in results["tests"]}

@@ -6,7 +6,6 @@ import logging
 import subprocess
 import sys
 import textwrap
-from pathlib import Path
 
 import pytest
 
@@ -28,17 +27,6 @@ def no_bwrap(monkeypatch):
 def spec(tmp_path):
     (tmp_path / "student").mkdir()
     return SandboxSpec(workdir=tmp_path / "student", memory_bytes=MEMORY, cpu_seconds=CPU, env={"EXTRA": "yes"})
-
-
-def _host_cmdlines() -> list[bytes]:
-    cmdlines = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                cmdlines.append((entry / "cmdline").read_bytes())
-            except OSError:
-                pass
-    return cmdlines
 
 
 def test_warning_is_logged_once_per_process(no_bwrap, spec, caplog):
@@ -72,7 +60,7 @@ def test_command_applies_limits_env_workdir_and_a_new_session(no_bwrap, spec, mo
     ], done.stderr
 
 
-def test_kernel_hits_the_memory_cap_and_shutdown_kills_its_children(no_bwrap, spec):
+def test_kernel_hits_the_memory_cap_and_shutdown_kills_its_children(no_bwrap, spec, host_cmdlines):
     km = SandboxedKernelManager(spec)
     km.start_kernel()
     kc = km.blocking_client()
@@ -84,8 +72,8 @@ def test_kernel_hits_the_memory_cap_and_shutdown_kills_its_children(no_bwrap, sp
         kc.execute_interactive(
             "import subprocess; subprocess.Popen(['sleep', '987653'], start_new_session=True)", timeout=30
         )
-        assert b"sleep\x00987653\x00" in _host_cmdlines()
+        assert b"sleep\x00987653\x00" in host_cmdlines()
     finally:
         kc.stop_channels()
         km.shutdown_kernel(now=True)
-    assert b"sleep\x00987653\x00" not in _host_cmdlines()
+    assert b"sleep\x00987653\x00" not in host_cmdlines()

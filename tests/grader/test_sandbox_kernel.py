@@ -62,17 +62,6 @@ def _run(kc, code: str, timeout: float = 30):
     return "".join(out), reply["content"]
 
 
-def _host_cmdlines() -> list[bytes]:
-    cmdlines = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                cmdlines.append((entry / "cmdline").read_bytes())
-            except OSError:
-                pass
-    return cmdlines
-
-
 @pytest.fixture(scope="module")
 def kernel(tmp_path_factory):
     spec = _course(tmp_path_factory.mktemp("course"))
@@ -238,17 +227,17 @@ def test_interrupt_stops_a_running_cell_and_the_kernel_survives(kernel):
     assert out == "alive\n"
 
 
-def test_shutdown_kills_processes_the_student_detached(tmp_path):
+def test_shutdown_kills_processes_the_student_detached(tmp_path, host_cmdlines):
     km, kc = _start(_course(tmp_path))
     sleeper = b"sleep\x00987654\x00"
     _run(kc, "import subprocess; subprocess.Popen(['sleep', '987654'], start_new_session=True)")
-    assert sleeper in _host_cmdlines()
+    assert sleeper in host_cmdlines()
     kc.stop_channels()
     km.shutdown_kernel(now=True)
-    assert sleeper not in _host_cmdlines()
+    assert sleeper not in host_cmdlines()
 
 
-def test_shutdown_kills_a_kernel_ignoring_sigint_and_sigterm(tmp_path):
+def test_shutdown_kills_a_kernel_ignoring_sigint_and_sigterm(tmp_path, host_cmdlines):
     spec = _course(tmp_path)
     km, kc = _start(spec)
     kc.execute(
@@ -262,17 +251,17 @@ def test_shutdown_kills_a_kernel_ignoring_sigint_and_sigterm(tmp_path):
     while kc.get_iopub_msg(timeout=10)["content"].get("text") != "looping\n":
         pass
     kernel_arg = str(spec.workdir).encode()
-    assert any(kernel_arg in c for c in _host_cmdlines())
+    assert any(kernel_arg in c for c in host_cmdlines())
     kc.stop_channels()
     start = time.monotonic()
     km.shutdown_kernel(now=True)
     assert time.monotonic() - start < 5
     assert not km.is_alive()
     # Neither bwrap nor the kernel (both carry the workdir in their argv) is left.
-    assert not any(kernel_arg in c for c in _host_cmdlines())
+    assert not any(kernel_arg in c for c in host_cmdlines())
 
 
-def test_shutdown_kills_a_sandbox_orphaned_by_its_launcher(tmp_path):
+def test_shutdown_kills_a_sandbox_orphaned_by_its_launcher(tmp_path, host_cmdlines):
     # bwrap dies with the thread that started it; if that happens during its
     # setup, its init process is orphaned and keeps the kernel running.
     km = SandboxedKernelManager(_course(tmp_path))
@@ -281,10 +270,10 @@ def test_shutdown_kills_a_sandbox_orphaned_by_its_launcher(tmp_path):
     starter.join()
     connection_file = os.path.realpath(km.connection_file).encode()
     time.sleep(2)
-    if not any(connection_file in c for c in _host_cmdlines()):
+    if not any(connection_file in c for c in host_cmdlines()):
         pytest.skip("this time the sandbox died with its launcher: nothing was orphaned")
     km.shutdown_kernel(now=True)
-    assert not any(connection_file in c for c in _host_cmdlines())
+    assert not any(connection_file in c for c in host_cmdlines())
 
 
 def test_hidden_packages_and_paths_inside_mounted_trees_are_masked(tmp_path, monkeypatch):

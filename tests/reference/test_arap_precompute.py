@@ -4,21 +4,14 @@ import scipy.sparse as sp
 from hypothesis import given, settings, strategies as st
 from scipy.stats import special_ortho_group
 
+from starter.meshes import load_mesh
 from reference.arap import arap_covariances, arap_precompute, cotangent_laplacian, cotangent_weights
-from starter.meshes import load_handles, load_mesh
 
 seeds = st.integers(0, 2**32 - 1)
 
 
-def mesh_and_handles(mesh):
-    V, F = load_mesh(mesh)
-    sets = load_handles(mesh)
-    handles = np.concatenate([sets["left"], sets["right"]]) if "left" in sets else np.concatenate(sets["regions"])
-    return V, F, handles
-
-
 @pytest.mark.parametrize("mesh", ["bar_coarse", "character"])
-def test_splits_the_vertices_into_handles_and_free_ones(mesh):
+def test_splits_the_vertices_into_handles_and_free_ones(mesh_and_handles, mesh):
     V, F, handles = mesh_and_handles(mesh)
     shuffled = np.random.default_rng(0).permutation(handles)
     data = arap_precompute(V, F, shuffled)
@@ -31,7 +24,7 @@ def test_splits_the_vertices_into_handles_and_free_ones(mesh):
 
 
 @pytest.mark.parametrize("mesh", ["bar_coarse", "character"])
-def test_the_factorization_solves_the_reduced_laplacian_system(mesh):
+def test_the_factorization_solves_the_reduced_laplacian_system(mesh_and_handles, mesh):
     V, F, handles = mesh_and_handles(mesh)
     data = arap_precompute(V, F, handles)
     A = -data.L[data.free][:, data.free]
@@ -43,7 +36,7 @@ def test_the_factorization_solves_the_reduced_laplacian_system(mesh):
 
 @settings(max_examples=20, deadline=None)
 @given(st.sampled_from(["bar_coarse", "character"]), seeds)
-def test_the_covariance_operator_reproduces_arap_covariances(mesh, seed):
+def test_the_covariance_operator_reproduces_arap_covariances(mesh_and_handles, mesh, seed):
     V, F, handles = mesh_and_handles(mesh)
     n, d = V.shape
     data = arap_precompute(V, F, handles)
@@ -54,7 +47,7 @@ def test_the_covariance_operator_reproduces_arap_covariances(mesh, seed):
 
 @settings(max_examples=20, deadline=None)
 @given(st.sampled_from(["bar_coarse", "character"]), seeds)
-def test_the_rhs_operator_is_the_gradient_of_the_rotation_term(mesh, seed):
+def test_the_rhs_operator_is_the_gradient_of_the_rotation_term(mesh_and_handles, mesh, seed):
     # Σ_i tr(R_i S_i(U)) = tr(Uᵀ B) with B = Gᵀ R; rhs_operator holds the free rows of B / 3
     V, F, handles = mesh_and_handles(mesh)
     n, d = V.shape
@@ -69,7 +62,7 @@ def test_the_rhs_operator_is_the_gradient_of_the_rotation_term(mesh, seed):
     assert 3.0 * np.sum(U[data.free] * b) == pytest.approx(rotation_term, rel=1e-11)
 
 
-def test_the_rest_dirichlet_energy_is_stored():
+def test_the_rest_dirichlet_energy_is_stored(mesh_and_handles):
     V, F, handles = mesh_and_handles("bar_coarse")
     data = arap_precompute(V, F, handles)
     assert data.rest_dirichlet == pytest.approx(-np.sum(V * (cotangent_laplacian(V, F) @ V)), rel=1e-12)
@@ -81,7 +74,7 @@ def test_every_vertex_may_be_a_handle():
     assert data.free.size == 0 and data.solver is None
 
 
-def test_inputs_are_not_modified():
+def test_inputs_are_not_modified(mesh_and_handles):
     V, F, handles = mesh_and_handles("bar_coarse")
     copies = [a.copy() for a in (V, F, handles)]
     arap_precompute(V, F, handles)
@@ -109,7 +102,7 @@ def two_bars():
         ({"F": np.array([[0, 1, 500]])}, "F has a vertex index out of range"),
     ],
 )
-def test_bad_inputs_raise_value_error_naming_the_argument(change, message):
+def test_bad_inputs_raise_value_error_naming_the_argument(mesh_and_handles, change, message):
     V, F, handles = mesh_and_handles("bar_coarse")
     args = {"V": V, "F": F, "handles": handles}
     args.update(change)
@@ -117,7 +110,7 @@ def test_bad_inputs_raise_value_error_naming_the_argument(change, message):
         arap_precompute(**args)
 
 
-def test_zero_area_triangles_are_rejected():
+def test_zero_area_triangles_are_rejected(mesh_and_handles):
     V, F, handles = mesh_and_handles("bar_coarse")
     V = V.copy()
     V[F[0, 2]] = V[F[0, 0]]

@@ -7,24 +7,12 @@ from hypothesis import given, settings, strategies as st
 from pyvista import examples
 
 from reference.meshes import boundary_loop_count
+from starter import shapes
 from starter.meshes import load_mesh
 
 
 def faces(name):
     return load_mesh(name)[1]
-
-
-def perforated_plate(n_holes):
-    """Triangulated ``(2h+1) x 3`` rectangle with ``h`` unit square holes in a row."""
-    width = 2 * n_holes + 1
-    outline = [[0, 0], [width, 0], [width, 3], [0, 3]]
-    holes = [[[2 * i + 1, 1], [2 * i + 2, 1], [2 * i + 2, 2], [2 * i + 1, 2]] for i in range(n_holes)]
-    P = np.array(outline + sum(holes, []), dtype=np.float64)
-    loops = np.arange(len(P)).reshape(-1, 4)
-    E = np.concatenate([np.stack([loop, np.roll(loop, -1)], axis=1) for loop in loops])
-    H = np.array([[2 * i + 1.5, 1.5] for i in range(n_holes)]).reshape(-1, 2)
-    V, F, *_ = igl.triangle.triangulate(P, E, H, flags="pqa0.2Q")
-    return V, F
 
 
 @pytest.mark.parametrize("name", ["sphere", "ant", "nut", "torus", "bar", "cylinder"])
@@ -41,7 +29,7 @@ def test_planar_course_meshes_have_their_boundary_loops(name, loops):
 @settings(max_examples=10, deadline=None)
 @given(n_holes=st.integers(0, 5))
 def test_disc_with_holes_has_one_loop_per_hole_plus_the_outline(n_holes):
-    _, F = perforated_plate(n_holes)
+    _, F = shapes.disc_with_holes(n_holes, max_area=0.01)
     result = boundary_loop_count(F)
     assert isinstance(result, int)
     assert result == 1 + n_holes == len(igl.boundary_loop_all(F))

@@ -6,20 +6,8 @@ import pyvista as pv
 from hypothesis import given, settings, strategies as st
 
 from reference.meshes import euler_characteristic
+from starter import shapes
 from starter.meshes import load_mesh
-
-
-def perforated_plate(n_holes):
-    """Triangulated ``(2h+1) x 3`` rectangle with ``h`` unit square holes in a row."""
-    width = 2 * n_holes + 1
-    outline = [[0, 0], [width, 0], [width, 3], [0, 3]]
-    holes = [[[2 * i + 1, 1], [2 * i + 2, 1], [2 * i + 2, 2], [2 * i + 1, 2]] for i in range(n_holes)]
-    P = np.array(outline + sum(holes, []), dtype=np.float64)
-    loops = np.arange(len(P)).reshape(-1, 4)
-    E = np.concatenate([np.stack([loop, np.roll(loop, -1)], axis=1) for loop in loops])
-    H = np.array([[2 * i + 1.5, 1.5] for i in range(n_holes)]).reshape(-1, 2)
-    V, F, *_ = igl.triangle.triangulate(P, E, H, flags="pqa0.2Q")
-    return V, F
 
 
 # topology of the course meshes, as documented in data/README.md
@@ -51,7 +39,7 @@ def test_euler_characteristic_adds_up_over_closed_components():
 @settings(max_examples=10, deadline=None)
 @given(n_holes=st.integers(0, 5))
 def test_each_hole_in_a_disc_lowers_euler_characteristic_by_one(n_holes):
-    result = euler_characteristic(*perforated_plate(n_holes))
+    result = euler_characteristic(*shapes.disc_with_holes(n_holes, max_area=0.01))
     assert isinstance(result, int)
     assert result == 1 - n_holes
 
