@@ -1,7 +1,8 @@
-"""The student contract (``shared/CONTRACT.md``) as data: which function belongs to which stage.
+"""The student contract as data: which function belongs to which stage.
 
 The names and their stage are the interface shared by students, ``reference/`` and the
-grader; ``tests/grader/test_contract.py`` checks this table against CONTRACT.md.
+grader. Stages 00–05 are ``shared/CONTRACT.md``; the bonus stage 06 is
+``BONUS_CONTRACT.md``. ``tests/grader/test_contract.py`` checks this table against both.
 """
 
 from __future__ import annotations
@@ -41,12 +42,27 @@ STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
         ),
     ),
     "05_lbs": ("linear_blend_skinning", ("lbs_matrix", "lbs")),
+    "06_fast": (
+        "fast",
+        ("rotation_clusters", "fast_precompute", "fast_energy", "fast_rotations", "fast_global_step", "fast_solve"),
+    ),
 }
+
+#: stages whose points are bonus: flagged in grades.csv and Gradescope, outside the regular maximum
+BONUS_STAGES: frozenset[str] = frozenset({"06_fast"})
 
 #: every contract function -> its reference module (``reference.<module>``)
 MODULE_OF: dict[str, str] = {name: module for module, names in STAGES.values() for name in names}
 
 CONTRACT_NAMES: frozenset[str] = frozenset(MODULE_OF)
+
+#: the functions of ``BONUS_CONTRACT.md`` (the rest are ``shared/CONTRACT.md``'s)
+BONUS_NAMES: frozenset[str] = frozenset(n for stage in BONUS_STAGES for n in STAGES[stage][1])
+
+
+def is_bonus(notebook: str) -> bool:
+    """Whether the points of ``notebook`` (a stage name such as ``06_fast``) are bonus points."""
+    return notebook in BONUS_STAGES
 
 
 def reference_function(name: str):

@@ -18,7 +18,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from grader.contract import ASSIGNMENT
+from grader.contract import ASSIGNMENT, is_bonus
 from grader.paths import course_paths
 
 SETUP_SH = """#!/usr/bin/env bash
@@ -68,12 +68,16 @@ def results_json(unit_results: list[dict]) -> dict:
     for r in sorted(unit_results, key=lambda r: r["notebook"]):
         for t in r["tests"]:
             lines = [t["summary"]]
+            bonus = is_bonus(r["notebook"])
+            if bonus:
+                lines.insert(0, f"bonus: up to {t['points']:g} extra points")
             lines += [f"- {c['label']}: {'passed' if c['passed'] else (c['error'] or '; '.join(c['failed']))}" for c in t["cases"]]
             tests.append(
                 {
-                    "name": f"{r['notebook']}: {t['function']}",
+                    "name": f"{r['notebook']}{' (bonus)' if bonus else ''}: {t['function']}",
                     "score": t["score"],
-                    "max_score": t["points"],
+                    # Gradescope's way to mark extra credit: points earned on a test worth 0.
+                    "max_score": 0 if bonus else t["points"],
                     "output": "\n".join(lines + r.get("reasons", [])[:5]),
                     # Hidden inputs are the hidden tests: their details show once grades are published.
                     "visibility": "after_published",

@@ -1,4 +1,4 @@
-"""The hidden reference solution: every function of the student contract.
+"""The hidden reference solution: every function of the student contract (and the bonus one).
 
 One module per stage; every contract function is importable from the package
 itself, e.g. ``from reference import arap_solve``. Never shipped to students,
@@ -27,6 +27,14 @@ from reference.bounded_biharmonic_weights import (
     unconstrained_biharmonic_weights,
 )
 from reference.linear_blend_skinning import lbs, lbs_matrix
+from reference.fast import (
+    fast_energy,
+    fast_global_step,
+    fast_precompute,
+    fast_rotations,
+    fast_solve,
+    rotation_clusters,
+)
 
 __all__ = [
     "edges", "euler_characteristic", "boundary_loop_count", "genus",
@@ -37,4 +45,5 @@ __all__ = [
     "biharmonic_matrix", "handle_constraints", "inverse_distance_weights",
     "unconstrained_biharmonic_weights", "bbw",
     "lbs_matrix", "lbs",
+    "rotation_clusters", "fast_precompute", "fast_energy", "fast_rotations", "fast_global_step", "fast_solve",
 ]

@@ -22,6 +22,8 @@ __all__ = [
     "as_square_matrices",
     "as_corner_weights",
     "check_no_degenerate_triangles",
+    "as_labels",
+    "as_handle_indices",
 ]
 
 
@@ -206,4 +208,54 @@ def as_corner_weights(C, n_faces: int, name: str = "C") -> np.ndarray:
     a = as_float_array(C, name, ndim=2)
     if a.shape != (n_faces, 3):
         raise ValueError(f"{name} must have shape ({n_faces}, 3), one row per triangle, got {a.shape}")
+    return a
+
+
+def as_labels(labels, n_items: int, name: str = "labels") -> np.ndarray:
+    """Check ``(n_items,)`` non-negative integer labels, one per item (e.g. a cluster per vertex).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n_items,)`` int64 copy.
+    """
+    if sp.issparse(labels):
+        raise ValueError(f"{name} must be a dense integer array, got a sparse matrix")
+    a = np.asarray(labels)
+    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
+        raise ValueError(f"{name} must be an integer array of labels, got {_describe(a)}")
+    if a.shape != (n_items,):
+        raise ValueError(f"{name} must have shape ({n_items},), one label per item, got {_describe(a)}")
+    a = np.array(a, dtype=np.int64, copy=True)
+    if (a < 0).any():
+        i = int(np.flatnonzero(a < 0)[0])
+        raise ValueError(f"{name} must be non-negative, got {name}[{i}] = {a[i]}")
+    return a
+
+
+def as_handle_indices(indices, n_handles: int, name: str = "handles") -> np.ndarray:
+    """Check a non-empty 1-D array of distinct handle indices (columns of ``W``) in ``[0, n_handles)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(h,)`` int64 copy, in the caller's order.
+    """
+    if sp.issparse(indices):
+        raise ValueError(f"{name} must be a dense integer array, got a sparse matrix")
+    a = np.asarray(indices)
+    if a.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D array of handle indices, got {_describe(a)}")
+    if a.size == 0:
+        raise ValueError(f"{name} is empty: at least one handle must be given")
+    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
+        raise ValueError(f"{name} must be an integer array of handle indices, got {_describe(a)}")
+    a = np.array(a, dtype=np.int64, copy=True)
+    out = (a < 0) | (a >= n_handles)
+    if out.any():
+        i = int(np.flatnonzero(out)[0])
+        raise ValueError(f"{name}[{i}] = {a[i]} is out of range: there are {n_handles} handles (columns of W)")
+    uniq, counts = np.unique(a, return_counts=True)
+    if (counts > 1).any():
+        raise ValueError(f"{name} has duplicate handle {int(uniq[counts > 1][0])}")
     return a

@@ -13,7 +13,11 @@ import json
 import warnings
 from pathlib import Path
 
-CSV_HEADER = ("student_id", "assignment", "notebook", "score", "max_score")
+from grader.contract import is_bonus
+
+#: ``bonus`` is ``true`` on the rows of bonus notebooks (BONUS_CONTRACT.md): their
+#: ``max_score`` is extra credit, not part of the assignment's regular maximum.
+CSV_HEADER = ("student_id", "assignment", "notebook", "score", "max_score", "bonus")
 
 
 def write_text_atomic(path: Path, text: str) -> None:
@@ -91,7 +95,9 @@ def write_grades_csv(out: Path, results: list[dict]) -> Path:
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(CSV_HEADER)
     for r in sorted(results, key=lambda r: (r["student_id"], r["notebook"])):
-        writer.writerow([r["student_id"], r["assignment"], r["notebook"], f"{r['score']:g}", f"{r['max_score']:g}"])
+        writer.writerow(
+            [r["student_id"], r["assignment"], r["notebook"], f"{r['score']:g}", f"{r['max_score']:g}", str(is_bonus(r["notebook"])).lower()]
+        )
     path = Path(out) / "grades.csv"
     write_text_atomic(path, buf.getvalue())
     return path

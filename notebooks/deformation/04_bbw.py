@@ -428,3 +428,25 @@ plotting.show_meshes(
 # everything that is close in the plane, e.g. the left hand moves the left hip
 # and thigh although along the body they are far away; biharmonic weights live
 # on the mesh and only spread through the shape.
+
+# %% [markdown]
+# ## 8 · Every kind of handle at once
+#
+# Nothing in `bbw` cares what a handle looks like: a point, a bone and a region
+# are all sets of constrained vertices. Below, one character carries a **point**
+# (the right hand), a **bone** (every vertex along the left arm's segment) and a
+# **region** (the head), with the feet as two more regions that keep the legs
+# anchored. The panels show the first three weights. A bone's weight is 1 along
+# the whole segment, so the arm moves rigidly with it; a point handle's weight
+# peaks at one vertex; a region's plateau covers its patch and then falls off
+# through the neck.
+
+# %%
+right_hand, left_arm = points[2], character_handles["bones"][1]
+head, left_foot, right_foot = character_handles["regions"]
+mixed = [np.array([right_hand]), left_arm, head, left_foot, right_foot]
+b, bc = handle_constraints(mixed)
+W_mixed = bbw(V, F, b, bc)
+for label, w in zip(("point (right hand)", "bone (left arm)", "region (head)"), W_mixed.T):
+    print(f"{label:18s}: weight ≥ 0.5 on {np.mean(w >= 0.5):5.1%} of the vertices")
+plotting.show_weights(V, F, W_mixed, handles=mixed, columns=[0, 1, 2])

@@ -1,4 +1,4 @@
-"""The contract table in grader/contract.py matches shared/CONTRACT.md and reference/."""
+"""The contract table in grader/contract.py matches shared/CONTRACT.md, BONUS_CONTRACT.md and reference/."""
 
 import re
 from pathlib import Path
@@ -6,16 +6,24 @@ from pathlib import Path
 import pytest
 
 import reference
-from grader.contract import CONTRACT_NAMES, MODULE_OF, STAGES
+from grader.contract import BONUS_NAMES, BONUS_STAGES, CONTRACT_NAMES, MODULE_OF, STAGES
 
 CONTRACT_MD = Path(__file__).resolve().parents[3] / "shared" / "CONTRACT.md"
+BONUS_CONTRACT_MD = Path(__file__).resolve().parents[2] / "BONUS_CONTRACT.md"
+
+
+def _table_names(path: Path) -> set[str]:
+    return set(re.findall(r"^\| `([a-z_]+)\(", path.read_text(), flags=re.M))
 
 
 @pytest.mark.skipif(not CONTRACT_MD.is_file(), reason="shared/CONTRACT.md is not beside this checkout")
-def test_registry_lists_exactly_the_functions_of_contract_md():
-    text = CONTRACT_MD.read_text()
-    names = set(re.findall(r"^\| `([a-z_]+)\(", text, flags=re.M))
-    assert names == set(CONTRACT_NAMES)
+def test_registry_lists_exactly_the_functions_of_contract_md_outside_the_bonus_stages():
+    assert _table_names(CONTRACT_MD) == set(CONTRACT_NAMES - BONUS_NAMES)
+
+
+def test_bonus_stages_list_exactly_the_functions_of_bonus_contract_md():
+    assert _table_names(BONUS_CONTRACT_MD) == set(BONUS_NAMES)
+    assert BONUS_STAGES <= set(STAGES)
 
 
 def test_every_contract_function_is_importable_from_the_reference_package():

@@ -29,6 +29,8 @@ def test_results_json_has_one_test_per_checked_function(tmp_path, source_noteboo
     tests = {t["name"]: t for t in results["tests"]}
     assert tests["02_sign_correction: optimal_rotation"]["score"] == tests["02_sign_correction: optimal_rotation"]["max_score"] > 0
     assert tests["03_arap: arap_solve"]["score"] == 0, "a notebook not submitted earns nothing"
+    bonus = tests["06_fast (bonus): fast_solve"]
+    assert bonus["max_score"] == 0 and bonus["output"].startswith("bonus: up to"), "bonus points are Gradescope extra credit"
     assert all(t["visibility"] == "after_published" for t in results["tests"])
     assert results["score"] == sum(t["score"] for t in results["tests"])
     assert all(set(t) == {"name", "score", "max_score", "output", "visibility"} for t in results["tests"])

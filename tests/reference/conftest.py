@@ -22,3 +22,31 @@ def mesh_and_handles():
         return V, F, handles
 
     return load
+
+
+@pytest.fixture(scope="session")
+def skinned_mesh():
+    """``skinned_mesh(name) -> (V, F, W, fixed)``: a course mesh with bounded biharmonic weights.
+
+    ``bar_coarse``: five handles, the two end faces (``fixed = [0, 1]``) and the
+    cross-section rings at x = 1, 2, 3; ``character``: the head, left foot and
+    right foot regions and the two arm bones, the feet fixed (``[1, 2]``).
+    """
+    from reference.bounded_biharmonic_weights import bbw, handle_constraints
+
+    cache = {}
+
+    def load(mesh: str):
+        if mesh not in cache:
+            V, F = load_mesh(mesh)
+            sets = load_handles(mesh)
+            if mesh == "character":
+                handles, fixed = [*sets["regions"], *sets["bones"][1:3]], np.array([1, 2])
+            else:
+                rings = [np.flatnonzero(V[:, 0] == x) for x in (1.0, 2.0, 3.0)]
+                handles, fixed = [sets["left"], sets["right"], *rings], np.array([0, 1])
+            cache[mesh] = (V, F, bbw(V, F, *handle_constraints(handles)), fixed)
+        V, F, W, fixed = cache[mesh]
+        return V.copy(), F.copy(), W.copy(), fixed.copy()
+
+    return load

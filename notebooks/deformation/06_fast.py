@@ -1,0 +1,502 @@
+# ---
+# jupyter:
+#   jupytext:
+#     text_representation:
+#       extension: .py
+#       format_name: percent
+#   kernelspec:
+#     display_name: Python 3
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # 06 · Bonus: fast automatic skinning transformations (FAST)
+#
+# **Every point in this notebook is a bonus point**: it is graded like the
+# others, but it is not part of the assignment's regular maximum.
+#
+# ARAP (stage 03) gives beautiful deformations, but each iteration costs a
+# sparse solve with all $n$ vertices, and a large rotation needs many iterations.
+# Linear blend skinning (stage 05) costs one matrix product per pose, but the
+# animator must give every handle a full affine transformation, rotations
+# included, or the shape shears and collapses.
+#
+# Jacobson, Baran, Kavan, Popović and Sorkine (*Fast Automatic Skinning
+# Transformations*, SIGGRAPH 2012) combine them: keep the LBS deformation
+#
+# $$
+# U = M\,T, \qquad M = \texttt{lbs\_matrix}(V, W) \in \mathbb R^{n \times m(d+1)},
+# \quad T = \begin{bmatrix} T_1^\top \\ \vdots \\ T_m^\top \end{bmatrix} \in \mathbb R^{m(d+1) \times d},
+# $$
+#
+# but let the ARAP energy choose the transformations the animator did not set.
+# Some handles are **fixed** (the animator poses them); the others are **free**
+# and solved for. The unknowns are $m(d+1)$ numbers per coordinate instead of
+# $n$: a few dozen instead of tens of thousands.
+#
+# Two more savings make every iteration independent of $n$:
+#
+# * **rotation clusters.** Vertices with similar weights move alike, so they can
+#   share one rotation. Clustering the rows of $W$ into $k$ groups gives $k$
+#   rotations per local step instead of $n$;
+# * **precomputed covariances.** The covariance of a cluster is *linear* in $T$,
+#   so it is one small precomputed matrix times $T$.
+#
+# You will build the precomputation, the energy, the local step, the global step
+# and the solver, then race FAST against full ARAP on the same mesh.
+
+# %%
+import time
+
+import igl
+import numpy as np
+import scipy.sparse as sp
+
+from starter import load_handles, load_mesh, plotting
+
+rng = np.random.default_rng(6)
+
+# %% [markdown]
+# ## 1 · Pieces from earlier stages
+#
+# FAST reuses four functions you wrote before. Bring your solutions of
+# `optimal_rotation` (stage 02), `cotangent_weights` and `cotangent_laplacian`
+# (stage 03) and `lbs_matrix` (stage 05); their tests here are short, the
+# notebooks of their stages explain them.
+
+# %% deformlab={"solution": "optimal_rotation"}
+
+# %% deformlab={"tests": "optimal_rotation", "points": 0.5}
+_S = rng.normal(size=(40, 3, 3))
+_R = optimal_rotation(_S)
+assert _R.shape == (40, 3, 3), f"a (40, 3, 3) stack must give a (40, 3, 3) stack, got shape {_R.shape}"
+assert np.allclose(np.transpose(_R, (0, 2, 1)) @ _R, np.eye(3)), "every R must be orthogonal"
+assert np.allclose(np.linalg.det(_R), 1.0), "every R must have det +1"
+assert np.isclose(np.trace(optimal_rotation(np.diag([1.0, 2.0, -3.0])) @ np.diag([1.0, 2.0, -3.0])), 4.0), (
+    "for S = diag(1, 2, -3) the best rotation gives tr(R S) = 4"
+)
+
+# %% deformlab={"solution": "cotangent_weights"}
+
+# %% deformlab={"tests": "cotangent_weights", "points": 0.5}
+_C = cotangent_weights(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]]), np.array([[0, 1, 2]]))
+assert np.allclose(_C, [[0.0, 1.0, 0.25]]), (
+    f"for the triangle (0,0), (2,0), (0,1) expected C = [[0, 1, 0.25]] (½cot at corners 0, 1, 2), got {np.round(_C, 6).tolist()}"
+)
+_V, _F = load_mesh("bar_coarse")
+assert np.allclose(cotangent_weights(_V, _F), igl.cotmatrix_entries(_V, _F)), "C must equal igl.cotmatrix_entries on the bar"
+
+# %% deformlab={"solution": "cotangent_laplacian"}
+
+# %% deformlab={"tests": "cotangent_laplacian", "points": 0.5}
+_V, _F = load_mesh("character")
+_L = cotangent_laplacian(_V, _F)
+assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name__}"
+_diff = abs(sp.csr_matrix(_L) - igl.cotmatrix(_V, _F)).max()
+assert _diff < 1e-10, f"L must equal igl.cotmatrix; they differ by up to {_diff:.3e}"
+
+# %% deformlab={"solution": "lbs_matrix"}
+
+# %% deformlab={"tests": "lbs_matrix", "points": 0.5}
+_V, _F = load_mesh("character")
+_W = rng.uniform(size=(len(_V), 3))
+_M = lbs_matrix(_V, _W)
+assert _M.shape == (len(_V), 9), f"for m = 3 handles in 2D expected shape {(len(_V), 9)}, got {np.shape(_M)}"
+assert np.abs(_M - igl.lbs_matrix(_V, _W)).max() < 1e-12, "M must equal igl.lbs_matrix"
+
+# %% [markdown]
+# ## 2 · Rotation clusters
+#
+# Where two vertices have nearly the same weights, LBS moves them by nearly the
+# same blended transformation, so their best rotations are nearly the same too.
+# FAST therefore clusters the vertices **in weight space**: vertex $i$ is the
+# point $W_{i,:} \in \mathbb R^m$, and $k$-means groups these points into $k$
+# clusters $c = 0, \dots, k-1$. Every vertex of cluster $c$ uses the rotation
+# $R_c$.
+#
+# $k$-means (Lloyd's algorithm) alternates two steps until the labels stop
+# changing:
+#
+# 1. every centre is the mean of the rows with its label;
+# 2. every row gets the label of its nearest centre.
+#
+# Each step lowers the sum of squared distances to the centres, so the labels
+# settle at a *fixed point*: every row is nearest to the mean of its own
+# cluster. Start from $k$ well-spread centres (*k-means++*: the first a random
+# row, each next one a row drawn with probability proportional to its squared
+# distance from the nearest centre so far), drawn from
+# `np.random.default_rng(seed)` so that the result is reproducible. If a
+# cluster ever runs empty, re-seed its centre at the row farthest from its own
+# centre.
+#
+# **Your task.** `rotation_clusters(W, k, seed=0)` returns `(n,)` integer labels
+# in `range(k)`, every label used, at a fixed point of Lloyd's algorithm.
+
+# %% deformlab={"solution": "rotation_clusters"}
+
+# %% deformlab={"tests": "rotation_clusters", "points": 2}
+# Three well-separated groups of rows: any fixed point finds them.
+_W = np.repeat(np.eye(3), [30, 20, 10], axis=0) + rng.uniform(0.0, 0.05, (60, 3))
+_labels = np.asarray(rotation_clusters(_W, 3))
+assert _labels.shape == (60,), f"one label per row of W: expected shape (60,), got {_labels.shape}"
+assert set(_labels.tolist()) == {0, 1, 2}, f"labels must be 0, 1, 2, each used; got {sorted(set(_labels.tolist()))}"
+assert all(len(set(_labels[_s].tolist())) == 1 for _s in (slice(0, 30), slice(30, 50), slice(50, 60))), (
+    "the three separated groups of rows must get one label each"
+)
+assert np.array_equal(rotation_clusters(_W, 3, seed=1), rotation_clusters(_W, 3, seed=1)), "the same seed must give the same labels"
+
+
+def _is_fixed_point(W, labels):
+    centres = np.array([W[labels == c].mean(axis=0) for c in range(labels.max() + 1)])
+    d2 = ((W[:, None, :] - centres[None]) ** 2).sum(axis=2)
+    return np.all(d2[np.arange(len(W)), labels] <= d2.min(axis=1) + 1e-12)
+
+
+_V, _F = load_mesh("character")
+_W = igl.harmonic(_V, _F, np.array(load_handles("character")["points"]), np.eye(5), 1)
+for _k in (1, 4, 12):
+    _labels = np.asarray(rotation_clusters(_W, _k))
+    assert np.array_equal(np.unique(_labels), np.arange(_k)), f"k = {_k}: every label in range({_k}) must be used"
+    assert _is_fixed_point(_W, _labels), f"k = {_k}: some row is closer to another cluster's mean than to its own"
+
+# %% [markdown]
+# ## 3 · The ARAP energy in the skinning subspace
+#
+# Stage 03's energy, with the rotation of vertex $i$'s cell taken from its
+# cluster, $R_i = R_{c(i)}$:
+#
+# $$
+# E(U, R) = \sum_i \sum_{t \ni i} \sum_{k} C_{tk}\, \bigl\| e'_{tk} - R_{c(i)}\, e_{tk} \bigr\|^2 ,
+# $$
+#
+# $e_{tk}$ the rest edge of triangle $t$ opposite corner $k$, $e'_{tk}$ the
+# same edge in $U$. Expand the square. Every edge of triangle $t$ appears in the
+# cells of all three corners of $t$, so
+#
+# * the **quadratic** part is $3 \sum_{t,k} C_{tk} \|e'_{tk}\|^2 = 3\,\operatorname{tr}(U^\top (-L)\, U)$
+#   with the cotangent Laplacian $L$; with $U = M T$ it is
+#   $\operatorname{tr}(T^\top Q\, T)$, $Q = 3\,M^\top(-L)\,M$, a small dense
+#   $m(d+1) \times m(d+1)$ matrix;
+# * the **constant** part is $3 \sum_{t,k} C_{tk} \|e_{tk}\|^2$;
+# * the **cross** part is $-2 \sum_c \operatorname{tr}(R_c S_c)$ with the cluster
+#   covariances $S_c = \sum_{i \in c} \sum_{t \ni i} \sum_k C_{tk}\, e_{tk}\, e'^\top_{tk}$.
+#
+# The deformed edge is linear in $T$: $e'_{tk} = (M_a - M_b)\,T$ for the rows
+# $M_a, M_b$ of $M$ at its end points $a, b$. Hence $S_c = P_c\, T$ with
+#
+# $$
+# P_c = \sum_{i \in c} \sum_{t \ni i} \sum_k C_{tk}\; e_{tk}\, (M_a - M_b) \;\in \mathbb R^{d \times m(d+1)} ,
+# $$
+#
+# and with $B(R) = \sum_c (R_c P_c)^\top$ the whole energy is
+#
+# $$
+# E(T, R) = \operatorname{tr}(T^\top Q\, T) - 2 \operatorname{tr}\bigl(T^\top B(R)\bigr) + \text{const}.
+# $$
+#
+# $Q$, the stack of $P_c$ and the constant depend on the rest mesh, the weights
+# and the clusters only: compute them once. Build $P$ without a Python loop over
+# triangles: every (vertex, triangle, corner) triple contributes one outer
+# product, so list them all and sum them per cluster (`np.add.at`, or a sparse
+# matrix that sums the triples into clusters).
+#
+# The **fixed** handles' transformations are given; the rest of $T$ is solved
+# for (§5). Without any fixed handle the energy cannot pin the shape down (a
+# translation of every handle moves the whole shape for free); a planar mesh in
+# 3D cannot determine what its transformations do off the plane. Check for
+# this in the precomputation: the block of $Q$ of the free rows must be
+# positive definite, and raise a `ValueError` that says why when it is not.
+#
+# **Your task.** `fast_precompute(V, F, W, clusters, fixed)` returns whatever
+# your other functions need (a `types.SimpleNamespace` or a dict), and
+# `fast_energy(data, T, R)` evaluates $E$ for transforms `T` `(m, d, d+1)` and
+# cluster rotations `R` `(k, d, d)`. The stack is
+# `T.transpose(0, 2, 1).reshape(-1, d)`.
+
+# %% deformlab={"solution": "fast_precompute"}
+
+# %% deformlab={"tests": "fast_precompute", "points": 1}
+_V, _F = load_mesh("character")
+_points = np.array(load_handles("character")["points"])
+_W = igl.harmonic(_V, _F, _points, np.eye(5), 1)
+_clusters = np.asarray(rotation_clusters(_W, 6))
+_data = fast_precompute(_V, _F, _W, _clusters, np.array([3, 4]))
+for _bad, _why in (
+    (np.array([], dtype=np.int64), "no fixed handle: a common translation of every handle costs nothing"),
+    (np.array([7]), "handle 7 does not exist (W has 5 columns)"),
+):
+    try:
+        fast_precompute(_V, _F, _W, _clusters, _bad)
+    except ValueError:
+        pass
+    else:
+        raise AssertionError(f"fast_precompute must raise ValueError for fixed = {_bad.tolist()}: {_why}")
+
+# %% deformlab={"solution": "fast_energy"}
+
+# %% deformlab={"tests": "fast_energy", "points": 2}
+def _direct_energy(V, F, W, T, clusters, R):
+    """Stage 03's energy of U = lbs(V, W, T) with R_i = R[clusters[i]], term by term."""
+    U = np.einsum("ij,jab,ib->ia", W, T, np.hstack([V, np.ones((len(V), 1))]))
+    C = igl.cotmatrix_entries(V, F)
+    E = 0.0
+    for k in range(3):
+        a, b = F[:, (k + 1) % 3], F[:, (k + 2) % 3]
+        e, e_new = V[a] - V[b], U[a] - U[b]
+        for corner in range(3):
+            Ri = R[clusters[F[:, corner]]]
+            E += np.sum(C[:, k] * np.sum((e_new - np.einsum("tij,tj->ti", Ri, e)) ** 2, axis=1))
+    return E
+
+
+_identity = np.tile(np.hstack([np.eye(2), np.zeros((2, 1))]), (5, 1, 1))
+_R_identity = np.tile(np.eye(2), (6, 1, 1))
+_E = fast_energy(_data, _identity, _R_identity)
+assert abs(_E) < 1e-9, f"the rest pose with identity rotations has zero energy, got {_E:.3e}"
+_T = _identity + rng.normal(0.0, 0.2, _identity.shape)
+_angles = rng.uniform(-np.pi, np.pi, 6)
+_R = np.stack([[[np.cos(_a), -np.sin(_a)], [np.sin(_a), np.cos(_a)]] for _a in _angles])
+_want = _direct_energy(_V, _F, _W, _T, _clusters, _R)
+_E = fast_energy(_data, _T, _R)
+assert np.isclose(_E, _want, rtol=1e-9), (
+    f"for random transforms and cluster rotations the energy is {_want:.10g}, got {_E:.10g} "
+    "(every edge counts in the cells of its triangle's three corners: Q = 3 Mᵀ(-L)M)"
+)
+
+# %% [markdown]
+# ## 4 · The local step: one rotation per cluster
+#
+# For fixed $T$ the energy only depends on the rotations through
+# $-2 \sum_c \operatorname{tr}(R_c S_c)$, and the clusters do not interact: each
+# $R_c$ maximizes $\operatorname{tr}(R_c S_c)$, stage 02's problem, with
+# $S_c = P_c T$. That is $k$ small SVDs, whatever the size of the mesh.
+#
+# **Your task.** `fast_rotations(data, T)` returns the `(k, d, d)` rotations.
+
+# %% deformlab={"solution": "fast_rotations"}
+
+# %% deformlab={"tests": "fast_rotations", "points": 2}
+_R = np.asarray(fast_rotations(_data, _T))
+assert _R.shape == (6, 2, 2), f"6 clusters in 2D give 6 rotations of shape (2, 2): expected (6, 2, 2), got {_R.shape}"
+assert np.allclose(np.linalg.det(_R), 1.0), f"every R_c must be a rotation, got determinants {np.round(np.linalg.det(_R), 4).tolist()}"
+_best = fast_energy(_data, _T, _R)
+for _ in range(30):
+    _other = _R @ np.stack([[[np.cos(_a), -np.sin(_a)], [np.sin(_a), np.cos(_a)]] for _a in rng.normal(0.0, 0.1, 6)])
+    assert fast_energy(_data, _T, _other) >= _best - 1e-9 * abs(_best), (
+        "turning the clusters' rotations slightly lowered the energy: the local step is not optimal "
+        "(is S_c summed over the cluster's vertices, and R_c = optimal_rotation(S_c), not its transpose?)"
+    )
+_pose = _identity.copy()
+_pose[:, :, :2] = [[0.0, -1.0], [1.0, 0.0]]  # every handle turned by 90°: a rigid motion
+_R = np.asarray(fast_rotations(_data, _pose))
+assert np.allclose(_R, [[0.0, -1.0], [1.0, 0.0]]), "when the whole shape turns by 90°, every cluster's rotation is that turn"
+
+# %% [markdown]
+# ## 5 · The global step: the small linear system
+#
+# For fixed rotations, $E$ is a convex quadratic in $T$ with gradient
+# $2\,(Q T - B(R))$. Split the rows of $T$ into the fixed ones, $T_c$ (given),
+# and the free ones, $T_f$; setting the gradient's free rows to zero gives
+#
+# $$
+# Q_{ff}\; T_f = B_f(R) - Q_{fc}\, T_c .
+# $$
+#
+# $Q_{ff}$ does not change between iterations, so factor it once in
+# `fast_precompute` (Cholesky: `scipy.linalg.cho_factor`, it is dense and tiny).
+#
+# **Your task.** `fast_global_step(data, R, fixed_transforms)` returns `T`
+# `(m, d, d+1)` with `T[fixed] = fixed_transforms` that minimizes the energy for
+# the rotations `R`.
+
+# %% deformlab={"solution": "fast_global_step"}
+
+# %% deformlab={"tests": "fast_global_step", "points": 3}
+_fixed_T = _identity[[3, 4]].copy()
+_fixed_T[0, :, 2] += [-0.3, 0.0]  # the left foot steps out
+_R = np.asarray(fast_rotations(_data, _identity))
+_T = np.asarray(fast_global_step(_data, _R, _fixed_T))
+assert _T.shape == (5, 2, 3), f"expected one (2, 3) transform per handle, shape (5, 2, 3), got {_T.shape}"
+assert np.array_equal(_T[[3, 4]], _fixed_T), "the fixed handles' transforms must be exactly fixed_transforms"
+_best = fast_energy(_data, _T, _R)
+for _ in range(30):
+    _other = _T.copy()
+    _other[:3] += rng.normal(0.0, 1e-3, (3, 2, 3))
+    assert fast_energy(_data, _other, _R) >= _best, (
+        "changing the free transforms slightly lowered the energy: the global step is not the minimizer "
+        "(check the right-hand side B(R) - Q_fc T_c)"
+    )
+_R = np.asarray(fast_rotations(_data, _identity))
+_T = np.asarray(fast_global_step(_data, _R, _identity[[3, 4]]))
+assert np.allclose(_T, _identity, atol=1e-9), "with the fixed handles at rest and identity rotations, every transform stays the identity"
+
+# %% [markdown]
+# ## 6 · The solver
+#
+# Alternate the two steps as in stage 03. Start from `T0` (the identity
+# transforms, the rest pose, if `None`) with the fixed transforms put in place,
+# then repeat: local step on the current $T$, global step with those rotations,
+# record the energy of the new $T$ *with the rotations that step used*. The local
+# step minimizes over $R$ and the global step over $T$, so the recorded energies
+# never increase.
+#
+# **Your task.** `fast_solve(data, fixed_transforms, T0=None, iterations=10)`
+# returns `(T, energies)`.
+
+# %% deformlab={"solution": "fast_solve"}
+
+# %% deformlab={"tests": "fast_solve", "points": 3}
+_T, _energies = fast_solve(_data, _fixed_T, iterations=6)
+_energies = np.asarray(_energies)
+assert _energies.shape == (6,), f"one energy per iteration: expected 6, got {_energies.shape}"
+assert np.all(np.diff(_energies) <= 1e-9 * abs(_energies[0])), f"the energies must not increase: {_energies.round(8).tolist()}"
+assert np.array_equal(np.asarray(_T)[[3, 4]], _fixed_T), "the fixed handles' transforms must be exactly fixed_transforms"
+_T_again, _ = fast_solve(_data, _fixed_T, T0=_T, iterations=1)
+_R_last = np.asarray(fast_rotations(_data, _T))
+assert np.isclose(fast_energy(_data, _T_again, _R_last), fast_solve(_data, _fixed_T, T0=_T, iterations=1)[1][0]), (
+    "energies[k] must be the energy of the new T with the rotations of iteration k's local step"
+)
+_T0 = _identity.copy()
+_T0[:, :, 2] += 5.0
+_T5, _ = fast_solve(_data, _fixed_T, T0=_T0, iterations=1)
+assert np.array_equal(np.asarray(_T5)[[3, 4]], _fixed_T), "the fixed rows of T0 must be replaced by fixed_transforms first"
+
+# %% [markdown]
+# ## 7 · FAST against full ARAP
+#
+# Pose the character: the feet (region handles) stay, the head turns and moves
+# left, and the weights come from bounded biharmonic weights on five handles:
+# the two feet, the head and the two arms as bones. The arms and the spine are
+# free; FAST decides where they go. Full ARAP (libigl's, on the same
+# energy) gets the same constraints: the vertices of the three posed regions
+# are placed where their transforms put them.
+
+# %%
+V, F = load_mesh("character")
+character = load_handles("character")
+head, left_foot, right_foot = character["regions"]
+handles = [head, left_foot, right_foot, character["bones"][1], character["bones"][2]]
+b = np.concatenate(handles)
+bc = np.repeat(np.eye(len(handles)), [len(h) for h in handles], axis=0)
+start = time.perf_counter()
+W = igl.bbw(V, F, b, bc)
+W /= W.sum(axis=1, keepdims=True)
+print(f"bounded biharmonic weights for {len(handles)} handles on {len(V)} vertices: {time.perf_counter() - start:.2f} s")
+
+
+def turn_about(point, angle):
+    """2D affine transform ``[A | t]`` rotating by ``angle`` (radians) about ``point``."""
+    c, s = np.cos(angle), np.sin(angle)
+    A = np.array([[c, -s], [s, c]])
+    return np.hstack([A, (point - A @ point)[:, None]])
+
+
+fixed = np.array([0, 1, 2])
+posed = np.stack([turn_about(V[head].mean(axis=0), 0.6), turn_about(V[left_foot].mean(axis=0), 0.0), turn_about(V[right_foot].mean(axis=0), 0.0)])
+posed[0, :, 2] += [-0.6, -0.25]
+
+start = time.perf_counter()
+data = fast_precompute(V, F, W, rotation_clusters(W, 20), fixed)
+fast_setup = time.perf_counter() - start
+start = time.perf_counter()
+T, energies = fast_solve(data, posed, iterations=50)
+fast_iteration = (time.perf_counter() - start) / 50
+U_fast = lbs_matrix(V, W) @ T.transpose(0, 2, 1).reshape(-1, 2)
+
+constrained = np.concatenate([head, left_foot, right_foot])
+targets = lbs_matrix(V, W)[constrained] @ T.transpose(0, 2, 1).reshape(-1, 2)
+arap = igl.ARAPData()
+arap.energy = igl.ARAP_ENERGY_TYPE_SPOKES_AND_RIMS
+arap.max_iter = 50
+start = time.perf_counter()
+igl.arap_precomputation(V, F, 2, constrained, arap)
+arap_setup = time.perf_counter() - start
+start = time.perf_counter()
+U_arap = igl.arap_solve(targets, arap, V.copy())
+arap_iteration = (time.perf_counter() - start) / 50
+
+
+def arap_energy_of(U):
+    """Stage 03's energy of ``U`` with the best rotation for every vertex's own cell."""
+    C = cotangent_weights(V, F)
+    opposite = [(F[:, (k + 1) % 3], F[:, (k + 2) % 3]) for k in range(3)]
+    S = np.zeros((len(V), 2, 2))
+    for k, (a, b) in enumerate(opposite):
+        outer = C[:, k, None, None] * (V[a] - V[b])[:, :, None] * (U[a] - U[b])[:, None, :]
+        for corner in range(3):
+            np.add.at(S, F[:, corner], outer)
+    R = optimal_rotation(S)
+    return sum(
+        np.sum(C[:, k] * np.sum(((U[a] - U[b]) - np.einsum("tij,tj->ti", R[F[:, corner]], V[a] - V[b])) ** 2, axis=1))
+        for k, (a, b) in enumerate(opposite)
+        for corner in range(3)
+    )
+
+
+E_fast, E_arap = arap_energy_of(U_fast), arap_energy_of(U_arap)
+print(f"FAST: 20 clusters, setup {1e3 * fast_setup:.1f} ms, {1e6 * fast_iteration:.0f} µs per iteration")
+print(f"ARAP: setup {1e3 * arap_setup:.1f} ms, {1e3 * arap_iteration:.2f} ms per iteration: "
+      f"FAST is {arap_iteration / fast_iteration:.0f}× faster per iteration")
+print(f"ARAP energy of the result: FAST {E_fast:.4g}, full ARAP {E_arap:.4g} (ratio {E_fast / E_arap:.2f})")
+plotting.show_meshes([(V, F), (U_fast, F), (U_arap, F)], titles=["rest", "FAST (5 handles, 20 clusters)", "full ARAP"])
+plotting.show_energy(energies, title="FAST energy per iteration")
+
+# %% [markdown]
+# FAST cannot reach full ARAP's energy: its deformations live in the span of
+# the weights, and its rotations are shared by whole clusters. The cell below
+# varies the number of clusters with the same handles.
+
+# %%
+for k in (1, 5, 20, 80):
+    T_k, _ = fast_solve(fast_precompute(V, F, W, rotation_clusters(W, k), fixed), posed, iterations=50)
+    U_k = lbs_matrix(V, W) @ T_k.transpose(0, 2, 1).reshape(-1, 2)
+    print(f"{k:3d} clusters: ARAP energy {arap_energy_of(U_k):.4g} ({arap_energy_of(U_k) / E_arap:.2f}× full ARAP)")
+
+# %% [markdown]
+# On 1,500 vertices both solvers are quick and FAST's per-iteration cost is
+# mostly Python's overhead for a few dozen small numpy calls. The gap opens with
+# the mesh size: ARAP's iteration grows with $n$, FAST's does not. The same pose
+# on the 10,000-vertex character (with harmonic weights for the same handles,
+# one sparse solve each, because bounded biharmonic weights take about ten
+# seconds at this size):
+
+# %%
+V_fine, F_fine = load_mesh("character_fine")
+fine = load_handles("character_fine")
+fine_handles = list(fine["regions"]) + [fine["bones"][1], fine["bones"][2]]
+b_fine = np.concatenate(fine_handles)
+W_fine = igl.harmonic(V_fine, F_fine, b_fine, np.repeat(np.eye(5), [len(h) for h in fine_handles], axis=0), 1)
+data_fine = fast_precompute(V_fine, F_fine, W_fine, rotation_clusters(W_fine, 20), fixed)
+start = time.perf_counter()
+T_fine, _ = fast_solve(data_fine, posed, iterations=50)
+fast_fine = (time.perf_counter() - start) / 50
+constrained_fine = np.concatenate(fine_handles[:3])
+arap_fine = igl.ARAPData()
+arap_fine.energy = igl.ARAP_ENERGY_TYPE_SPOKES_AND_RIMS
+arap_fine.max_iter = 20
+igl.arap_precomputation(V_fine, F_fine, 2, constrained_fine, arap_fine)
+targets_fine = lbs_matrix(V_fine, W_fine)[constrained_fine] @ T_fine.transpose(0, 2, 1).reshape(-1, 2)
+start = time.perf_counter()
+igl.arap_solve(targets_fine, arap_fine, V_fine.copy())
+arap_fine_iteration = (time.perf_counter() - start) / 20
+print(f"{len(V_fine)} vertices: FAST {1e6 * fast_fine:.0f} µs, ARAP {1e3 * arap_fine_iteration:.1f} ms per iteration "
+      f"({arap_fine_iteration / fast_fine:.0f}× faster)")
+
+# %% [markdown]
+# **Question.** FAST's result has a higher ARAP energy than full ARAP's. Name
+# the two approximations responsible, say which knob reduces each, and what
+# turning it up costs per iteration and in the precomputation.
+
+# %% [markdown] deformlab={"answer": "fast_tradeoffs", "points": 2}
+# Two restrictions: (1) the deformation must lie in the LBS subspace, U = M T,
+# so only what the weights can express is reachable (the arms bend only where
+# weights blend, nothing can bulge where the weights are flat); adding free
+# handles (more weight functions, FAST's "extra weights") enlarges the subspace,
+# at the cost of a larger system, m(d+1) unknowns per coordinate: the global
+# solve is O((m(d+1))²) per iteration and the precomputation of Q and P grows
+# with m (and computing more BBW weights). (2) Rotations are shared by clusters,
+# so a cluster that bends cannot have one best rotation for all its cells; more
+# clusters bring the energy towards per-vertex rotations at k SVDs per
+# iteration and a P of size k·d·m(d+1). With k = n and the weights spanning
+# every deformation, FAST becomes full ARAP and loses its speed.
