@@ -33,7 +33,7 @@ def _turn(P: np.ndarray, R: np.ndarray, pivot: np.ndarray) -> np.ndarray:
     return (P - pivot) @ R.T + pivot
 
 
-def _axis_rotation(axis: int, angle: float) -> np.ndarray:
+def axis_rotation(axis: int, angle: float) -> np.ndarray:
     c, s = np.cos(angle), np.sin(angle)
     i, j = [k for k in range(3) if k != axis]
     R = np.eye(3)
@@ -68,7 +68,7 @@ def deformation_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, 
         def move(P):
             right = P[:, 0] == P[:, 0].max()
             pivot = P[right].mean(axis=0)
-            R = random_rotation(rng, 2, angle) if P.shape[1] == 2 else _axis_rotation(1, angle)
+            R = random_rotation(rng, 2, angle) if P.shape[1] == 2 else axis_rotation(1, angle)
             out = P.copy()
             out[right] = _turn(P[right], R, pivot) + 0.5 * np.eye(P.shape[1])[-1]
             return out
@@ -78,7 +78,7 @@ def deformation_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, 
     def twist(P):
         right = P[:, 0] == P[:, 0].max()
         out = P.copy()
-        out[right] = _turn(P[right], _axis_rotation(0, rng.uniform(2.0, 2.8)), P[right].mean(axis=0))
+        out[right] = _turn(P[right], axis_rotation(0, rng.uniform(2.0, 2.8)), P[right].mean(axis=0))
         return out
 
     add("2D strip, right end turned by 90°", *shapes.grid_2d(10, 3, width=3.0, height=0.6), ends, bend_right_end(np.pi / 2))
@@ -156,13 +156,13 @@ def _local_step_inputs(rng: np.random.Generator) -> list[tuple[str, np.ndarray, 
     return out
 
 
-def _energy_scale(V: np.ndarray, U: np.ndarray, F: np.ndarray, C: np.ndarray) -> float:
+def energy_scale(V: np.ndarray, U: np.ndarray, F: np.ndarray, C: np.ndarray) -> float:
     """``3 Σ |C| (‖e‖² + ‖e'‖²)``: bounds the terms of the ARAP energy, for roundoff tolerances."""
     edge = lambda X: X[F[:, [2, 0, 1]]] - X[F[:, [1, 2, 0]]]  # noqa: E731 - edge opposite each corner
     return 3.0 * float(np.sum(np.abs(C) * (np.sum(edge(V) ** 2, -1) + np.sum(edge(U) ** 2, -1))))
 
 
-def _energy_verdict(name: str, found, best, scale: float, rtol: float, at_most: bool = False) -> Verdict:
+def energy_verdict(name: str, found, best, scale: float, rtol: float, at_most: bool = False) -> Verdict:
     """Energies ``found`` equal (or with ``at_most``, do not exceed) ``best`` within ``rtol`` plus roundoff of the terms.
 
     ``found`` and ``best`` are floats or equally long 1-D arrays (one energy per iteration).
@@ -306,7 +306,7 @@ class ArapEnergyChecks(FunctionChecks):
 
     def verify(self, case, got, expected):
         V, U, F, C, _ = case.args()
-        return [_energy_verdict("energy", as_float(got, "energy"), float(expected), _energy_scale(V, U, F, C), DIRECT_RTOL)]
+        return [energy_verdict("energy", as_float(got, "energy"), float(expected), energy_scale(V, U, F, C), DIRECT_RTOL)]
 
 
 def _random_local_rotations(rng: np.random.Generator, V: np.ndarray, F: np.ndarray, P: np.ndarray, handles: np.ndarray) -> np.ndarray:
@@ -331,11 +331,11 @@ def _global_step_verdicts(U_got, U_ref, V, F, R, handles, positions) -> list[Ver
     energy = reference("arap_energy")
     return [
         _handle_verdict(U, handles, positions),
-        _energy_verdict(
+        energy_verdict(
             "minimal energy for the given rotations",
             float(energy(V, U, F, C, R)),
             float(energy(V, U_ref, F, C, R)),
-            _energy_scale(V, U_ref, F, C),
+            energy_scale(V, U_ref, F, C),
             DIRECT_RTOL,
             at_most=True,
         ),
@@ -435,7 +435,7 @@ class ArapSolveChecks(FunctionChecks):
         U_ref, energies_ref = (as_array(x) for x in as_pair(expected, "the reference's (U, energies)"))
         C = np.asarray(reference("cotangent_weights")(V, F))
         energy = reference("arap_energy")
-        scale = _energy_scale(V, U_ref, F, C)
+        scale = energy_scale(V, U_ref, F, C)
         # The rotations of the last iteration are the local step on the previous iterate.
         if iterations == 1:
             previous = _start(V, kwargs.get("U0"), handles, P)
@@ -456,9 +456,9 @@ class ArapSolveChecks(FunctionChecks):
             detail = f"energies[{k + 1}] = {energies[k + 1]:.12g} > energies[{k}] = {energies[k]:.12g}"
         verdicts.append(verdict("energies non-increasing", rises.size == 0, detail))
         if len(energies) == iterations:
-            verdicts.append(_energy_verdict("energies match the reference's from the same start", energies, energies_ref, scale, ITERATE_RTOL))
+            verdicts.append(energy_verdict("energies match the reference's from the same start", energies, energies_ref, scale, ITERATE_RTOL))
             verdicts.append(
-                _energy_verdict(
+                energy_verdict(
                     "last energy is of U with the last iteration's rotations",
                     float(energies[-1]),
                     float(energy(V, U, F, C, R_last)),
