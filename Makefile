@@ -4,7 +4,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.deformlab-installed
-SYSTEM_PACKAGES := bubblewrap libegl1 libgl1-mesa-dri
+SYSTEM_PACKAGES := bubblewrap libegl1 libgl1-mesa-dri chromium chromium-driver
 export VTK_DEFAULT_OPENGL_WINDOW ?= vtkEGLRenderWindow
 
 .PHONY: setup system-deps demo test test-fast bench meshes build release clean

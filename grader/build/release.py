@@ -7,7 +7,9 @@ Checks, each failing the release loudly:
 2. no release file contains reference code, hidden tests or grader internals;
 3. the release notebooks execute with the stubs, where only cells that use a
    contract function fail, every tests cell fails, and a blank submission scores 0;
-4. every autograded cell has points and the stable ``grade_id`` ``test_<function>``.
+4. every autograded cell has points and the stable ``grade_id`` ``test_<function>``;
+5. the ungraded demo notebook (``notebooks/demo_skinning``), shipped in the
+   student bundle, runs top to bottom and shows its widget and animation.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ import nbformat
 from grader.build.authored import referenced_names
 from grader.build.lift import lift
 from grader.build.source_notebook import HIDDEN_MARKERS, build_sources
-from grader.contract import ASSIGNMENT, CONTRACT_NAMES
+from grader.contract import ASSIGNMENT, CONTRACT_NAMES, is_bonus
 from grader.paths import CoursePaths, course_paths
 
 STUDENT_REQUIREMENTS = """numpy>=1.26
@@ -36,6 +38,8 @@ scipy>=1.11
 libigl>=2.6.3
 pyvista>=0.44
 matplotlib>=3.8
+pillow>=10.0
+ipywidgets>=8.0
 jupyterlab>=4.0
 ipykernel>=6.29
 nbclient>=0.10
@@ -45,7 +49,8 @@ nbformat>=5.9
 STUDENT_README = """# Deformation assignment
 
 Six notebooks, one per stage: `00_meshes` (warm-up), `01_shape_matching`,
-`02_sign_correction`, `03_arap`, `04_bbw`, `05_lbs`. In each, fill in one
+`02_sign_correction`, `03_arap`, `04_bbw`, `05_lbs`, and a seventh for bonus
+points, `06_fast` (ARAP in the skinning subspace). In each, fill in one
 function at a time where it says `YOUR CODE HERE`, then run the tests cell below
 it: its messages say what is wrong.
 
@@ -68,6 +73,10 @@ public tests is necessary, not sufficient.
 
 Keep `starter/` and `data/` next to the notebooks; do not rename the notebooks.
 
+`demo_skinning.ipynb` is not graded: libigl's demo 403 (pose a character with
+sliders, linear blend skinning follows in real time, export the animation as a
+GIF). Run it in JupyterLab after `05_lbs`.
+
 When grading, your solution cells and the cells that only set things up run;
 tests cells and cells that call the graded functions at top level (pictures,
 experiments) do not. Keep everything a function needs inside the function or
@@ -77,6 +86,10 @@ in a cell that does not call a graded function.
 
 #: A local kernel's own notice about unencrypted TCP, printed at every start, is noise here.
 QUIET_KERNEL = ["--IPKernelApp.log_level=ERROR"]
+
+
+#: The ungraded demo in the student bundle: ``notebooks/<DEMO>/<DEMO>.py``, shipped as ``<DEMO>.ipynb``.
+DEMO = "demo_skinning"
 
 
 class ReleaseError(RuntimeError):
@@ -271,8 +284,36 @@ def check_points(sources: list[Path], report: ReleaseReport) -> None:
         report.points[path.stem] = total
 
 
+def demo_notebook(paths: CoursePaths) -> nbformat.NotebookNode:
+    """The ungraded demo, converted from its jupytext source ``notebooks/demo_skinning/demo_skinning.py``.
+
+    It ships in the student bundle as ``demo_skinning.ipynb``, not in
+    ``release/<assignment>``: nbgrader rewrites that folder whenever its
+    ``generate_assignment`` runs, as grading with a fresh gradebook does.
+    """
+    import jupytext
+
+    return jupytext.read(paths.notebooks / DEMO / f"{DEMO}.py")
+
+
+def check_demo_execution(demo: nbformat.NotebookNode, report: ReleaseReport) -> None:
+    """Run the demo top to bottom with pictures on, in a scratch folder (it writes a GIF where it runs)."""
+    with tempfile.TemporaryDirectory(prefix="dl-demo-") as tmp:
+        path = Path(tmp) / f"{DEMO}.ipynb"
+        nbformat.write(demo, path)
+        started = time.monotonic()
+        nb = _execute(path, {"DEFORMLAB_NO_PLOTS": "0"})
+        report.timings[f"demo {DEMO}"] = time.monotonic() - started
+    for i, why in _errors(nb).items():
+        report.problems.append(f"demo {DEMO}.ipynb, cell {i + 1} fails: {why}")
+    shown = {mime for cell in nb.cells for out in cell.get("outputs", []) for mime in out.get("data", {})}
+    for mime, what in (("application/vnd.jupyter.widget-view+json", "the widget"), ("image/gif", "the animation")):
+        if mime not in shown:
+            report.problems.append(f"demo {DEMO}.ipynb does not show {what} ({mime})")
+
+
 def write_bundle(paths: CoursePaths, assignment: str) -> Path:
-    """``dist/<assignment>-student.zip``: release notebooks, starter/, data/, requirements, README, self-check."""
+    """``dist/<assignment>-student.zip``: release notebooks, the demo, starter/, data/, requirements, README, self-check."""
     from grader import student_check
 
     paths.dist.mkdir(exist_ok=True)
@@ -282,6 +323,7 @@ def write_bundle(paths: CoursePaths, assignment: str) -> Path:
         root = f"{assignment}"
         for nb in sorted((paths.release / assignment).glob("*.ipynb")):
             z.write(nb, f"{root}/{nb.name}")
+        z.writestr(f"{root}/{DEMO}.ipynb", nbformat.writes(demo_notebook(paths)))
         for folder in ("starter", "data"):
             for f in sorted((paths.root / folder).rglob("*")):
                 if f.is_file() and "__pycache__" not in f.parts and f.suffix in (".py", ".npz", ".md"):
@@ -315,11 +357,13 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
         check_grades(sources, paths.source / assignment, True, report, "reference", paths)
         check_release_execution(released, report)
         check_grades(sources, paths.release / assignment, False, report, "blank", paths)
+        check_demo_execution(demo_notebook(paths), report)
     report.timings["release total"] = time.monotonic() - started
 
     for nb, pts in report.points.items():
-        print(f"  {nb:<22} {pts:5.1f} points")
-    print(f"  {'total':<22} {sum(report.points.values()):5.1f} points")
+        print(f"  {nb:<22} {pts:5.1f} points" + (" (bonus)" if is_bonus(nb) else ""))
+    print(f"  {'total':<22} {sum(p for nb, p in report.points.items() if not is_bonus(nb)):5.1f} points"
+          f" + {sum(p for nb, p in report.points.items() if is_bonus(nb)):g} bonus")
     for what, secs in report.timings.items():
         print(f"  {what:<28} {secs:6.1f} s")
     print(f"student bundle: {bundle.relative_to(paths.root)}")

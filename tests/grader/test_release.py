@@ -7,7 +7,7 @@ import nbformat
 import pytest
 
 from grader.build.lift import lift
-from grader.build.release import release, scan_for_leaks
+from grader.build.release import DEMO, ReleaseReport, check_demo_execution, release, scan_for_leaks, write_bundle
 from grader.paths import CoursePaths
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -28,7 +28,7 @@ def released(tmp_path_factory):
 def test_the_release_passes_every_check(released):
     paths, report = released
     assert report.problems == []
-    assert set(report.points) == {"00_meshes", "01_shape_matching", "02_sign_correction", "03_arap", "04_bbw", "05_lbs"}
+    assert set(report.points) == {"00_meshes", "01_shape_matching", "02_sign_correction", "03_arap", "04_bbw", "05_lbs", "06_fast"}
     assert all(p > 0 for p in report.points.values())
 
 
@@ -51,6 +51,50 @@ def test_the_student_bundle_has_what_students_need_and_nothing_else(released):
                    "deformation/requirements.txt", "deformation/README.md", "deformation/check_notebook.py"):
         assert needed in names
     assert not any("/reference/" in n or "/grader/" in n or n.endswith("gradebook.db") for n in names)
+
+
+@pytest.mark.slow
+def test_the_release_bundles_the_demo_and_runs_it(released):
+    paths, report = released
+    with zipfile.ZipFile(paths.dist / "deformation-student.zip") as z:
+        assert f"deformation/{DEMO}.ipynb" in z.namelist()
+    assert f"demo {DEMO}" in report.timings, report.timings
+
+
+def test_the_bundle_ships_the_demo_without_outputs_next_to_starter_with_its_requirements(tmp_path):
+    import jupytext
+
+    for name in ("notebooks", "starter", "data"):
+        (tmp_path / name).symlink_to(ROOT / name)
+    paths = CoursePaths(tmp_path)
+    (paths.release / "deformation").mkdir(parents=True)
+    with zipfile.ZipFile(write_bundle(paths, "deformation")) as z:
+        names = set(z.namelist())
+        nb = nbformat.reads(z.read(f"deformation/{DEMO}.ipynb").decode(), as_version=4)
+        requirements = z.read("deformation/requirements.txt").decode()
+        readme = z.read("deformation/README.md").decode()
+    assert {"deformation/starter/skinning_widget.py", "deformation/starter/posing.py", "deformation/data/character_fine.npz"} <= names
+    authored = jupytext.read(ROOT / "notebooks" / "demo_skinning" / "demo_skinning.py")
+    assert [(c.cell_type, c.source) for c in nb.cells] == [(c.cell_type, c.source) for c in authored.cells]
+    assert all(not c.get("outputs") and "nbgrader" not in c.metadata for c in nb.cells)
+    assert "deformlab" not in nb.metadata and nb.metadata["kernelspec"]["name"] == "python3"
+    assert scan_for_leaks({f"{DEMO}.ipynb": nbformat.writes(nb)}) == []
+    assert "ipywidgets" in requirements and f"{DEMO}.ipynb" in readme
+
+
+def test_the_demo_check_reports_a_failing_cell_and_missing_widget_and_animation(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    broken = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("open('posed.gif', 'wb').close()"), nbformat.v4.new_code_cell("1 / 0")])
+    broken.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    report = ReleaseReport()
+    check_demo_execution(broken, report)
+    assert report.problems == [
+        f"demo {DEMO}.ipynb, cell 2 fails: ZeroDivisionError: division by zero",
+        f"demo {DEMO}.ipynb does not show the widget (application/vnd.jupyter.widget-view+json)",
+        f"demo {DEMO}.ipynb does not show the animation (image/gif)",
+    ]
+    assert f"demo {DEMO}" in report.timings
+    assert list(tmp_path.iterdir()) == [], "the demo must run in a scratch folder, not where it is called from"
 
 
 def test_the_leak_scan_finds_a_pasted_reference_body():

@@ -1,0 +1,276 @@
+"""JupyterLab in headless Chromium: a release notebook filled with the reference solutions and the
+skinning demo run all their cells, show no error and show the rendered mesh; dragging a demo slider
+redraws the character.
+
+The browser is Debian's ``/usr/bin/chromium`` driven by the ``playwright`` package's bundled driver
+(never a downloaded browser); the test skips where either is missing. JupyterLab listens on
+127.0.0.1 only, with a random token, on a temporary folder; screenshots are saved under the
+fixture's temporary folder and named in every assertion message.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+import secrets
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from dataclasses import dataclass
+from pathlib import Path
+
+import nbformat
+import numpy as np
+import pytest
+from PIL import Image
+
+CHROMIUM = Path("/usr/bin/chromium")
+if not CHROMIUM.is_file():
+    pytest.skip(
+        f"Debian's chromium is not installed ({CHROMIUM} is missing): `make test` installs it when run as root "
+        "(apt-get install chromium chromium-driver)",
+        allow_module_level=True,
+    )
+sync_api = pytest.importorskip("playwright.sync_api", reason="the playwright package (the dev extra) is not installed")
+
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(300)]
+
+ROOT = Path(__file__).resolve().parents[2]
+RELEASE_NOTEBOOK = "05_lbs"
+DEMO = "demo_skinning"
+# Without the background-networking flags Chromium keeps calling home, which the closed network refuses.
+FLAGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+]
+# JupyterLab settings for a quiet, deterministic page: no news or update toasts; every cell in the DOM.
+SETTINGS = {
+    "@jupyterlab/apputils-extension/notification.jupyterlab-settings": '{"fetchNews": "false", "checkForUpdates": false}',
+    "@jupyterlab/notebook-extension/tracker.jupyterlab-settings": '{"windowingMode": "none"}',
+}
+PANEL = ".jp-NotebookPanel:not(.lm-mod-hidden)"
+FINISHED = """(panel) => {
+  const p = document.querySelector(panel);
+  if (!p) return false;
+  const status = p.querySelector('.jp-Notebook-ExecutionIndicator')?.dataset.status;
+  const prompts = Array.from(p.querySelectorAll('.jp-CodeCell .jp-InputPrompt')).map(e => e.textContent.trim());
+  return status === 'idle' && prompts.length > 0 && /^\\[\\d+\\]:$/.test(prompts[0]) && !prompts.some(t => t.includes('*'));
+}"""
+RUN_TIMEOUT_MS = 120_000
+
+
+@dataclass
+class Lab:
+    url: str
+    token: str
+    root: Path
+    log: Path
+
+    def log_tail(self, lines: int = 15) -> str:
+        return "\n".join(self.log.read_text(errors="replace").splitlines()[-lines:])
+
+
+@pytest.fixture(scope="module")
+def workdir(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("lab")
+
+
+def fill(root: Path, workdir: Path) -> None:
+    """Write what JupyterLab serves into ``root``: the release 05_lbs filled with the reference, and the demo."""
+    from benchmarks.bench_grading import student_version
+    from grader.build.authored import read_authored
+    from grader.build.release import demo_notebook, generate_assignment
+    from grader.build.source_notebook import build_source_notebook
+    from grader.paths import CoursePaths
+
+    course = CoursePaths(workdir / "course")
+    course.root.mkdir()
+    course.notebooks.symlink_to(ROOT / "notebooks", target_is_directory=True)
+    source = course.source / "deformation" / f"{RELEASE_NOTEBOOK}.ipynb"
+    source.parent.mkdir(parents=True)
+    nbformat.write(build_source_notebook(read_authored(ROOT / "notebooks" / "deformation" / f"{RELEASE_NOTEBOOK}.py")), source)
+    generate_assignment(course, "deformation", f"sqlite:///{workdir}/gradebook.db")
+    released = course.release / "deformation" / source.name
+    nbformat.write(student_version(source, released), root / source.name)
+    nbformat.write(demo_notebook(course), root / f"{DEMO}.ipynb")
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def lab(workdir):
+    """JupyterLab on 127.0.0.1 serving :func:`fill`'s notebooks with pictures on, fresh settings and
+    workspaces; shut down afterwards."""
+    lab_root = workdir / "served"
+    lab_root.mkdir()
+    token, port = secrets.token_hex(16), _free_port()
+    for name, text in SETTINGS.items():
+        path = workdir / "settings" / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    env = {k: v for k, v in os.environ.items() if k not in ("DEFORMLAB_NO_PLOTS", "DEFORMLAB_PLOT_BACKEND")}
+    env.update(
+        JUPYTERLAB_SETTINGS_DIR=str(workdir / "settings"),
+        JUPYTERLAB_WORKSPACES_DIR=str(workdir / "workspaces"),
+        JUPYTER_CONFIG_DIR=str(workdir / "config"),
+        JUPYTER_RUNTIME_DIR=str(workdir / "runtime"),
+        PYTHONPATH=os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])),
+    )
+    log = workdir / "jupyterlab.log"
+    command = [
+        sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root",
+        f"--ServerApp.token={token}", "--ServerApp.ip=127.0.0.1", f"--ServerApp.port={port}",
+        "--ServerApp.port_retries=0", f"--ServerApp.root_dir={lab_root}",
+        "--LabApp.news_url=None", "--LabApp.check_for_updates_class=jupyterlab.handlers.announcements.NeverCheckForUpdate",
+    ]
+    with open(log, "wb") as out:
+        server = subprocess.Popen(command, env=env, stdout=out, stderr=subprocess.STDOUT, cwd=lab_root)
+    lab = Lab(f"http://127.0.0.1:{port}", token, lab_root, log)
+    try:
+        fill(lab_root, workdir)  # while the server starts
+        deadline = time.monotonic() + 90
+        while True:
+            if server.poll() is not None:
+                pytest.fail(f"JupyterLab exited with code {server.returncode}:\n{lab.log_tail()}")
+            try:
+                with urllib.request.urlopen(f"{lab.url}/api/status?token={token}", timeout=5) as answer:
+                    if answer.status == 200:
+                        break
+            except OSError:
+                pass
+            if time.monotonic() > deadline:
+                pytest.fail(f"JupyterLab did not answer within 90 s:\n{lab.log_tail()}")
+            time.sleep(0.5)
+        yield lab
+    finally:
+        server.terminate()  # the server shuts its kernels down on SIGTERM
+        try:
+            server.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            server.kill()
+            server.wait()
+
+
+@pytest.fixture(scope="module")
+def browser(workdir):
+    with sync_api.sync_playwright() as playwright:
+        context = playwright.chromium.launch_persistent_context(
+            str(workdir / "chromium-profile"), executable_path=str(CHROMIUM), headless=True, args=FLAGS,
+            viewport={"width": 1400, "height": 1000},
+        )
+        try:
+            yield context
+        finally:
+            context.close()
+
+
+def run_all_cells(page, lab: Lab, name: str, shots: Path):
+    """Open ``name``.ipynb in its own workspace, Run > Run All Cells, wait for the kernel, save.
+
+    Returns
+    -------
+    (NotebookNode, Path)
+        The notebook as JupyterLab saved it, and a screenshot of the page.
+    """
+    page.goto(f"{lab.url}/lab/workspaces/{name}/tree/{name}.ipynb?token={lab.token}")
+    page.wait_for_selector(f"{PANEL} .jp-Notebook-ExecutionIndicator[data-status='idle']", timeout=60_000)
+    first_prompt = page.locator(f"{PANEL} .jp-CodeCell .jp-InputPrompt").first
+    for attempt in range(3):
+        # A click that lands while the freshly opened notebook is still settling can be lost: retry it.
+        page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
+        page.locator(".lm-Menu-itemLabel", has_text=re.compile(r"^Run All Cells$")).click()
+        try:
+            page.wait_for_function("(el) => /\\[(\\*|\\d+)\\]/.test(el.textContent)", arg=first_prompt.element_handle(),
+                                   polling=200, timeout=10_000)
+            break
+        except sync_api.TimeoutError:
+            if attempt == 2:
+                raise
+    page.wait_for_function(FINISHED, arg=PANEL, polling=500, timeout=RUN_TIMEOUT_MS)
+    path = lab.root / f"{name}.ipynb"
+    saved_before = path.stat().st_mtime_ns
+    page.keyboard.press("Control+s")
+    deadline = time.monotonic() + 30
+    while path.stat().st_mtime_ns == saved_before and time.monotonic() < deadline:
+        time.sleep(0.2)
+    shot = shots / f"{name}.png"
+    page.screenshot(path=str(shot))
+    return nbformat.read(path, as_version=4), shot
+
+
+def errors(nb) -> list[str]:
+    return [f"cell {i + 1}: {out.ename}: {out.evalue}" for i, cell in enumerate(nb.cells)
+            for out in cell.get("outputs", []) if out.output_type == "error"]
+
+
+def unexecuted(nb) -> list[int]:
+    return [i + 1 for i, cell in enumerate(nb.cells) if cell.cell_type == "code" and cell.execution_count is None]
+
+
+def element_picture(locator, path: Path) -> np.ndarray:
+    """What the browser shows of one element, saved to ``path``, as an RGB array."""
+    locator.scroll_into_view_if_needed()
+    return np.asarray(Image.open(io.BytesIO(locator.screenshot(path=str(path)))).convert("RGB"))
+
+
+def drawn_fraction(img: np.ndarray) -> float:
+    """Share of pixels that differ clearly from the white background."""
+    return float((np.abs(img.astype(int) - 255).max(axis=-1) > 30).mean())
+
+
+def test_a_release_notebook_filled_with_the_reference_runs_in_jupyterlab_and_shows_its_meshes(lab, browser, workdir):
+    page = browser.new_page()
+    nb, shot = run_all_cells(page, lab, RELEASE_NOTEBOOK, workdir)
+    assert errors(nb) == [], f"screenshot: {shot}"
+    assert unexecuted(nb) == [], f"cells left unexecuted; screenshot: {shot}"
+    saved_pictures = sum("image/png" in out.get("data", {}) for cell in nb.cells for out in cell.get("outputs", []))
+    images = page.locator(f"{PANEL} .jp-OutputArea-output img")
+    assert saved_pictures >= 3 and images.count() == saved_pictures, f"{images.count()} images shown, {saved_pictures} saved; screenshot: {shot}"
+    for k in range(images.count()):
+        picture = workdir / f"{RELEASE_NOTEBOOK}-image-{k}.png"
+        drawn = drawn_fraction(element_picture(images.nth(k), picture))
+        # A mesh fills part of its panel: neither a blank picture nor one covered edge to edge.
+        assert 0.05 < drawn < 0.8, f"image {k} has {drawn:.1%} non-background pixels: {picture} (page: {shot})"
+    page.close()
+
+
+def test_the_skinning_demo_runs_in_jupyterlab_and_a_dragged_slider_redraws_the_character(lab, browser, workdir):
+    page = browser.new_page()
+    nb, shot = run_all_cells(page, lab, DEMO, workdir)
+    assert errors(nb) == [], f"screenshot: {shot}"
+    assert unexecuted(nb) == [], f"cells left unexecuted; screenshot: {shot}"
+    assert page.locator(f"{PANEL} .jp-OutputArea-output img[src^='data:image/gif']").count() == 1, f"no animation shown: {shot}"
+    image = page.locator(f"{PANEL} .widget-image").first
+    before_path = workdir / f"{DEMO}-widget-before.png"
+    before = element_picture(image, before_path)
+    assert 0.05 < drawn_fraction(before) < 0.7, f"the widget shows no character: {before_path} (page: {shot})"
+
+    readout = page.locator(f"{PANEL} .widget-slider .widget-readout").first
+    assert readout.inner_text().strip() == "0", f"the demo ends in the rest pose; page: {shot}"
+    source = image.get_attribute("src")
+    handle = page.locator(f"{PANEL} .widget-slider .noUi-handle").first
+    box = handle.bounding_box()
+    y = box["y"] + box["height"] / 2
+    page.mouse.move(box["x"] + box["width"] / 2, y)
+    page.mouse.down()
+    page.mouse.move(box["x"] + box["width"] / 2 + 25, y, steps=5)
+    page.mouse.up()
+    page.wait_for_function("([el, src]) => el.getAttribute('src') !== src", arg=[image.element_handle(), source],
+                           timeout=30_000)
+    page.wait_for_function(FINISHED, arg=PANEL, polling=200, timeout=30_000)
+    after_path = workdir / f"{DEMO}-widget-after.png"
+    after = element_picture(image, after_path)
+    moved = workdir / f"{DEMO}-moved.png"
+    page.screenshot(path=str(moved))
+    assert readout.inner_text().strip() != "0", f"the spine slider did not move: {moved}"
+    assert 0.05 < drawn_fraction(after) < 0.7, f"the widget shows no character after the drag: {after_path}"
+    changed = float((np.abs(after.astype(int) - before.astype(int)).max(axis=-1) > 30).mean())
+    assert changed > 0.01, f"only {changed:.2%} of the picture changed: {before_path} vs {after_path}"
+    page.close()

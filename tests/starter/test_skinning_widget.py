@@ -1,0 +1,276 @@
+"""starter.skinning_widget: normalized BBW weights, the slider widget driven programmatically, its
+pictures (EGL and the matplotlib fallback) and the GIF export."""
+
+import io
+import re
+import threading
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from PIL import Image
+
+from starter import plotting
+from starter.meshes import load_handles, load_mesh
+from starter.posing import CHARACTER_PARENTS, bone_joints, bone_transforms
+from starter.skinning_widget import SkinRenderer, SkinningWidget, skinning_weights
+
+NAMES = ("spine", "left arm", "right arm", "left leg", "right leg")
+SIZE = (320, 240)
+
+
+@pytest.fixture(scope="module")
+def character():
+    V, F = load_mesh("character")
+    bones = load_handles("character")["bones"]
+    return V, F, bones, skinning_weights(V, F, bones)
+
+
+@pytest.fixture(params=["egl", "matplotlib"])
+def backend(request, monkeypatch):
+    if request.param == "egl" and not plotting.opengl_available():
+        pytest.skip(f"pyvista cannot render here: {plotting._opengl_reason}")
+    monkeypatch.setenv("DEFORMLAB_PLOT_BACKEND", "pyvista" if request.param == "egl" else "matplotlib")
+    return "pyvista" if request.param == "egl" else "matplotlib"
+
+
+@pytest.fixture
+def widget(character, backend):
+    V, F, bones, W = character
+    w = SkinningWidget(V, F, W, bones, CHARACTER_PARENTS, names=NAMES, size=SIZE)
+    yield w
+    w.renderer.close()
+
+
+def skinned(V, W, T):
+    """LBS straight from the formula, ``u_i = Σ_j W[i, j] T_j [v_i; 1]``."""
+    return np.einsum("ij,jab,ib->ia", W, T[:, :, :2], V) + W @ T[:, :, 2]
+
+
+def picture(w):
+    return np.asarray(Image.open(io.BytesIO(w.image.value)).convert("RGB"))
+
+
+def foreground(img):
+    return int(np.any(img != 255, axis=-1).sum())
+
+
+def pixel(renderer, x):
+    """Row and column of the point ``x`` in the renderer's fixed view."""
+    width, height = renderer.size
+    scale = (height / 2) / renderer.reach
+    return int(round(height / 2 - (x[1] - renderer.centre[1]) * scale)), int(round(width / 2 + (x[0] - renderer.centre[0]) * scale))
+
+
+def test_weights_are_one_on_their_bone_bounded_and_a_partition_of_unity_on_the_fine_character():
+    V, F = load_mesh("character_fine")
+    bones = load_handles("character_fine")["bones"]
+    assert len(V) > 10_000 and len(bones) == 5
+    W = skinning_weights(V, F, bones)
+    assert W.shape == (len(V), 5)
+    assert W.min() >= 0.0 and W.max() <= 1.0
+    assert np.abs(W.sum(axis=1) - 1.0).max() < 1e-12
+    for j, bone in enumerate(bones):
+        assert np.array_equal(W[bone], np.eye(5)[np.full(len(bone), j)])
+    # Each bone's weight is largest on its own limb: the arm tips belong to the arms.
+    assert np.argmax(W[load_handles("character_fine")["points"]], axis=1).tolist() == [0, 1, 2, 3, 4]
+
+
+def test_the_rest_pose_reproduces_the_mesh(widget, character):
+    V = character[0]
+    assert np.array_equal(widget.T, np.tile(np.eye(2, 3), (5, 1, 1)))
+    assert np.abs(widget.U - V).max() < 1e-12
+
+
+def test_moving_one_slider_updates_the_transforms_and_the_mesh_to_the_exact_lbs_result(widget, character):
+    V, _, bones, W = character
+    before = widget.image.value
+    widget.angle_sliders[1].value = 40
+    T = bone_transforms(bone_joints(V, bones), np.radians([0.0, 40.0, 0.0, 0.0, 0.0]), CHARACTER_PARENTS)
+    assert np.array_equal(widget.T, T)
+    assert np.abs(widget.U - skinned(V, W, T)).max() < 1e-12
+    assert widget.image.value != before
+    # The left arm turned, so its tip moved; the right arm's did not.
+    assert np.linalg.norm(widget.U[bones[1][-1]] - V[bones[1][-1]]) > 0.1
+    assert np.abs(widget.U[bones[2]] - V[bones[2]]).max() < 1e-12
+
+
+def test_the_translation_sliders_move_the_whole_mesh(widget, character):
+    V = character[0]
+    widget.translation_sliders[0].value = 25  # centimetres: hundredths of the mesh unit
+    widget.translation_sliders[1].value = -10
+    assert np.abs(widget.U - (V + [0.25, -0.1])).max() < 1e-12
+
+
+# set_pose sets every slider, so the widget carried over between examples holds no state that matters.
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(
+    angles=st.lists(st.floats(-np.pi, np.pi, allow_nan=False), min_size=5, max_size=5),
+    translation=st.tuples(st.floats(-0.5, 0.5), st.floats(-0.5, 0.5)),
+)
+def test_every_pose_set_through_the_sliders_gives_the_lbs_of_its_forward_kinematics(widget, character, angles, translation):
+    V, _, bones, W = character
+    widget.set_pose(angles, translation)
+    # The sliders hold whole degrees and centimetres.
+    assert [s.value for s in widget.angle_sliders] == np.rint(np.degrees(angles)).astype(int).tolist()
+    assert [s.value for s in widget.translation_sliders] == np.rint(100 * np.array(translation)).astype(int).tolist()
+    T = bone_transforms(bone_joints(V, bones), widget.angles, CHARACTER_PARENTS, widget.translation)
+    assert np.abs(widget.U - skinned(V, W, T)).max() < 1e-12
+
+
+def test_set_pose_clamps_to_the_slider_ranges(widget, character):
+    V, _, bones, W = character
+    widget.set_pose([4.0, -4.0, 0.0, 0.0, 0.0], [2.0, -2.0])
+    assert [s.value for s in widget.angle_sliders[:2]] == [180, -180]
+    assert [s.value for s in widget.translation_sliders] == [50, -50]
+    T = bone_transforms(bone_joints(V, bones), np.radians([180, -180, 0, 0, 0]), CHARACTER_PARENTS, [0.5, -0.5])
+    assert np.abs(widget.U - skinned(V, W, T)).max() < 1e-12
+
+
+def test_set_pose_updates_once_and_the_picture_shows_that_pose(widget):
+    changes = []
+    widget.image.observe(lambda change: changes.append(change), names="value")
+    widget.set_pose(np.radians([10.0, -30.0, 45.0, 5.0, -5.0]), [0.1, 0.05])
+    assert len(changes) == 1
+    img = picture(widget)
+    assert img.shape == (SIZE[1], SIZE[0], 3)
+    assert np.array_equal(img, widget.renderer.render(widget.U))
+    assert 0.05 * img.shape[0] * img.shape[1] < foreground(img) < 0.6 * img.shape[0] * img.shape[1]
+
+
+def test_the_picture_draws_each_posed_bone_where_lbs_put_it(widget, character):
+    _, _, bones, _ = character
+    widget.set_pose(np.radians([20.0, -60.0, 70.0, 15.0, -25.0]), [0.2, -0.1])
+    img = picture(widget)
+    for bone in bones:
+        row, col = pixel(widget.renderer, (widget.U[bone[0]] + widget.U[bone[-1]]) / 2)
+        patch = img[row - 2:row + 3, col - 2:col + 3].astype(int)
+        assert (patch.max(axis=-1) < 90).any(), f"no dark bone pixel near ({row}, {col}) ({widget.renderer.backend})"
+
+
+def test_the_label_reports_lbs_updates_and_rendered_frames_per_second_separately(widget):
+    for k in range(5):
+        widget.angle_sliders[0].value = 5 * k
+    rates = widget.frame_rates()
+    assert rates["lbs_updates_per_second"] > rates["rendered_frames_per_second"] > 0
+    numbers = re.search(r"LBS: ([\d,]+) updates/s · rendered: ([\d.]+) frames/s \((\w+),", widget.label.value)
+    assert numbers, widget.label.value
+    assert float(numbers[1].replace(",", "")) == round(rates["lbs_updates_per_second"])
+    assert float(numbers[2]) == round(rates["rendered_frames_per_second"], 1)
+    assert numbers[3] == widget.renderer.backend
+
+
+def test_export_animation_writes_one_gif_frame_per_pose_and_leaves_the_sliders(widget, tmp_path):
+    k = 12
+    phase = 2 * np.pi * np.arange(k) / k
+    angles = np.column_stack([0.3 * np.sin(phase), -np.sin(phase), np.sin(phase), 0.4 * np.cos(phase), -0.4 * np.cos(phase)])
+    translations = np.column_stack([0.1 * np.sin(phase), 0.05 * np.cos(phase)])
+    sliders = [s.value for s in widget.angle_sliders + widget.translation_sliders]
+    path = widget.export_animation(tmp_path / "wave.gif", angles, translations, fps=10)
+    assert path == tmp_path / "wave.gif"
+    with Image.open(path) as gif:
+        assert gif.format == "GIF" and gif.n_frames == k and gif.size == SIZE
+        assert gif.info["duration"] == 100 and gif.info["loop"] == 0
+        gif.seek(3)
+        assert foreground(np.asarray(gif.convert("RGB"))) > 0
+    assert [s.value for s in widget.angle_sliders + widget.translation_sliders] == sliders
+
+
+def test_a_slider_change_delivered_on_another_thread_renders_the_same_picture(widget):
+    # A kernel may run comm handlers (slider changes) on another thread than cell execution.
+    widget.set_pose(np.radians([10.0, -30.0, 45.0, 5.0, -5.0]))
+    expected = widget.renderer.render(widget.U)
+    done = []
+    worker = threading.Thread(target=lambda: done.append(widget.renderer.render(widget.U)))
+    worker.start()
+    worker.join()
+    assert np.array_equal(done[0], expected)
+
+
+def test_the_renderer_uses_the_backend_that_works(widget, backend):
+    assert widget.renderer.backend == backend
+    assert "(" + backend + "," in widget.label.value
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda w, tmp: w.export_animation(tmp / "a.mp4", np.zeros((2, 5))), "path must end in .gif"),
+        (lambda w, tmp: w.export_animation(tmp / "a.gif", np.zeros((2, 4))), "angles must have shape (k, 5)"),
+        (lambda w, tmp: w.export_animation(tmp / "a.gif", np.zeros((0, 5))), "angles must have shape (k, 5)"),
+        (lambda w, tmp: w.export_animation(tmp / "a.gif", np.zeros((2, 5)), np.zeros((3, 2))), "translations must have shape (2, 2)"),
+        (lambda w, tmp: w.export_animation(tmp / "a.gif", np.zeros((2, 5)), fps=0), "fps must be positive"),
+        (lambda w, tmp: w.set_pose(np.zeros(4)), "angles must have one entry per bone (5)"),
+        (lambda w, tmp: w.set_pose(np.zeros(5), [np.nan, 0.0]), "translation contains NaN"),
+        (lambda w, tmp: w.renderer.render(np.zeros((3, 2))), "U must have the shape of V"),
+    ],
+)
+def test_bad_calls_are_refused_naming_the_argument(widget, tmp_path, call, message):
+    with pytest.raises(ValueError) as info:
+        call(widget, tmp_path)
+    assert message in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (dict(W=np.ones((10, 5))), "W must have shape (1547, 5)"),
+        (dict(names=("a", "b")), "names must have one entry per bone (5)"),
+        (dict(parents=(-1, 0, 1, 2, 2, 0)), "parents must have one entry per bone (5)"),
+        (dict(parents=(1, 0, -1, -1, -1)), "parents has a cycle"),
+        (dict(max_translation=0.001), "max_translation must be at least 0.01"),
+        (dict(history=0), "history must be a positive integer"),
+        (dict(size=(8, 8)), "size must be (width, height) with both at least 16 pixels"),
+    ],
+)
+def test_bad_widget_arguments_are_refused_naming_the_argument(character, change, message):
+    V, F, bones, W = character
+    args = dict(V=V, F=F, W=W, bones=bones, parents=CHARACTER_PARENTS) | change
+    with pytest.raises(ValueError) as info:
+        SkinningWidget(**args)
+    assert message in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (dict(handle_sets=[]), "handle_sets must be a non-empty sequence"),
+        (dict(handle_sets=[np.array([0, 1]), np.array([], dtype=np.int64)]), "handle_sets[1] is empty"),
+        (dict(handle_sets=[np.array([0, 1]), np.array([1, 2])]), "has duplicate vertex 1"),
+        (dict(handle_sets=[np.array([0, 10**6])]), "out of range"),
+    ],
+)
+def test_bad_weight_arguments_are_refused_naming_the_argument(character, change, message):
+    V, F, bones, _ = character
+    with pytest.raises(ValueError) as info:
+        skinning_weights(**(dict(V=V, F=F, handle_sets=bones) | change))
+    assert message in str(info.value)
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (dict(W=np.ones((3, 5))), "W must have one row per vertex (1547)"),
+        (dict(reach=0.0), "reach must be positive"),
+        (dict(reach=np.inf), "reach contains NaN or inf"),
+        (dict(bones=[np.array([0, 10**6])]), "bones[0] ends at vertex 1000000, out of range"),
+        (dict(V=np.zeros((1547, 3))), "V must have 2 columns"),
+    ],
+)
+def test_bad_renderer_arguments_are_refused_naming_the_argument(character, change, message):
+    V, F, _, W = character
+    with pytest.raises(ValueError) as info:
+        SkinRenderer(**(dict(V=V, F=F, W=W) | change))
+    assert message in str(info.value)
+
+
+def test_a_renderer_without_bones_draws_only_the_mesh(character, backend):
+    V, F, _, W = character
+    renderer = SkinRenderer(V, F, W, size=(64, 64))
+    try:
+        img = renderer.render(V)
+        assert img.shape == (64, 64, 3) and img.dtype == np.uint8
+        assert foreground(img) > 0 and not (img.max(axis=-1) < 60).any()
+    finally:
+        renderer.close()
