@@ -393,6 +393,43 @@ def _start(V: np.ndarray, U0: np.ndarray | None, handles: np.ndarray, positions:
     return U
 
 
+def local_global_energy_verdicts(energies, energies_ref, iterations: int, last_with_rotations: float, fresh: float, scale: float, unknown: str) -> list[Verdict]:
+    """Verdicts on the energies a local–global solve returns (ARAP's, FAST's).
+
+    Parameters
+    ----------
+    energies, energies_ref : (k,) numpy.ndarray
+        The student's and the reference's energies from the same start.
+    iterations : int
+        Iterations asked for; the comparisons need ``len(energies) == iterations``.
+    last_with_rotations : float
+        Energy of the student's result with the last iteration's rotations (what ``energies[-1]`` must be).
+    fresh : float
+        Energy of the student's result with fresh optimal rotations (a lower bound for ``energies[-1]``).
+    scale : float
+        Size of the energy's terms, for roundoff.
+    unknown : str
+        The solved-for quantity in messages (``"U"``, ``"T"``).
+    """
+    rises = np.flatnonzero(np.diff(energies) > DIRECT_RTOL * np.abs(energies[:-1]) + 1e-12 * scale)
+    detail = ""
+    if rises.size:
+        k = rises[0]
+        detail = f"energies[{k + 1}] = {energies[k + 1]:.12g} > energies[{k}] = {energies[k]:.12g}"
+    verdicts = [verdict("energies non-increasing", rises.size == 0, detail)]
+    if len(energies) == iterations:
+        verdicts += [
+            energy_verdict("energies match the reference's from the same start", energies, energies_ref, scale, ITERATE_RTOL),
+            energy_verdict(f"last energy is of {unknown} with the last iteration's rotations", float(energies[-1]), last_with_rotations, scale, ITERATE_RTOL),
+            verdict(
+                f"last energy not below the energy of {unknown} with fresh optimal rotations",
+                energies[-1] >= fresh - ITERATE_RTOL * fresh - 1e-12 * scale,
+                f"energies[-1] = {energies[-1]:.12g}, but no rotations give {unknown} an energy below {fresh:.12g}",
+            ),
+        ]
+    return verdicts
+
+
 class ArapSolveChecks(FunctionChecks):
     function = "arap_solve"
     needs = ("arap_precompute",)
@@ -449,30 +486,7 @@ class ArapSolveChecks(FunctionChecks):
             verdict("len(energies) == iterations", len(energies) == iterations, f"{len(energies)} energies for {iterations} iterations"),
             _handle_verdict(U, handles, P),
         ]
-        rises = np.flatnonzero(np.diff(energies) > DIRECT_RTOL * np.abs(energies[:-1]) + 1e-12 * scale)
-        detail = ""
-        if rises.size:
-            k = rises[0]
-            detail = f"energies[{k + 1}] = {energies[k + 1]:.12g} > energies[{k}] = {energies[k]:.12g}"
-        verdicts.append(verdict("energies non-increasing", rises.size == 0, detail))
-        if len(energies) == iterations:
-            verdicts.append(energy_verdict("energies match the reference's from the same start", energies, energies_ref, scale, ITERATE_RTOL))
-            verdicts.append(
-                energy_verdict(
-                    "last energy is of U with the last iteration's rotations",
-                    float(energies[-1]),
-                    float(energy(V, U, F, C, R_last)),
-                    scale,
-                    ITERATE_RTOL,
-                )
-            )
-            verdicts.append(
-                verdict(
-                    "last energy not below the energy of U with fresh optimal rotations",
-                    energies[-1] >= fresh - ITERATE_RTOL * fresh - 1e-12 * scale,
-                    f"energies[-1] = {energies[-1]:.12g}, but no rotations give U an energy below {fresh:.12g}",
-                )
-            )
+        verdicts += local_global_energy_verdicts(energies, energies_ref, iterations, float(energy(V, U, F, C, R_last)), fresh, scale, "U")
         verdicts.append(_positions_verdict("U matches the reference's from the same start", U, U_ref, V, ITERATE_RTOL))
         return verdicts
 

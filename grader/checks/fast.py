@@ -17,7 +17,7 @@ import functools
 
 import numpy as np
 
-from grader.checks.arap import DIRECT_RTOL, HANDLE_TOL, ITERATE_RTOL, axis_rotation, energy_scale, energy_verdict
+from grader.checks.arap import DIRECT_RTOL, HANDLE_TOL, ITERATE_RTOL, axis_rotation, energy_scale, energy_verdict, local_global_energy_verdicts
 from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_pair, close, verdict
 from grader.checks.meshes import relabel
 from grader.checks.rotations import rotation_verdicts
@@ -477,29 +477,6 @@ class FastSolveChecks(FunctionChecks):
             verdict("len(energies) == iterations", len(energies) == iterations, f"{len(energies)} energies for {iterations} iterations"),
             _fixed_verdict(T, fixed, X),
         ]
-        rises = np.flatnonzero(np.diff(energies) > DIRECT_RTOL * np.abs(energies[:-1]) + 1e-12 * scale)
-        detail = ""
-        if rises.size:
-            k = rises[0]
-            detail = f"energies[{k + 1}] = {energies[k + 1]:.12g} > energies[{k}] = {energies[k]:.12g}"
-        verdicts.append(verdict("energies non-increasing", rises.size == 0, detail))
-        if len(energies) == iterations:
-            verdicts.append(energy_verdict("energies match the reference's from the same start", energies, energies_ref, scale, ITERATE_RTOL))
-            verdicts.append(
-                energy_verdict(
-                    "last energy is of T with the last iteration's rotations",
-                    float(energies[-1]),
-                    _energy(V, F, W, clusters, T, R_last),
-                    scale,
-                    ITERATE_RTOL,
-                )
-            )
-            verdicts.append(
-                verdict(
-                    "last energy not below the energy of T with fresh optimal rotations",
-                    energies[-1] >= fresh - ITERATE_RTOL * fresh - 1e-12 * scale,
-                    f"energies[-1] = {energies[-1]:.12g}, but no rotations give T an energy below {fresh:.12g}",
-                )
-            )
+        verdicts += local_global_energy_verdicts(energies, energies_ref, iterations, _energy(V, F, W, clusters, T, R_last), fresh, scale, "T")
         verdicts.append(_transforms_verdict("T matches the reference's from the same start", T, T_ref, ITERATE_RTOL))
         return verdicts
