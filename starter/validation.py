@@ -157,6 +157,26 @@ def as_weights(w, k: int, name: str = "w") -> np.ndarray:
     return a
 
 
+def _distinct_indices(indices, n: int, name: str, noun: str, empty: str, plural: str) -> np.ndarray:
+    """A non-empty 1-D int64 copy of distinct indices in ``[0, n)``; messages name ``noun`` indices."""
+    a = np.asarray(indices)
+    if a.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D array of {noun} indices, got {_describe(a)}")
+    if a.size == 0:
+        raise ValueError(f"{name} is empty: {empty}")
+    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
+        raise ValueError(f"{name} must be an integer array of {noun} indices, got {_describe(a)}")
+    a = np.array(a, dtype=np.int64, copy=True)
+    out = (a < 0) | (a >= n)
+    if out.any():
+        i = int(np.flatnonzero(out)[0])
+        raise ValueError(f"{name}[{i}] = {a[i]} is out of range: there are {n} {plural}")
+    uniq, counts = np.unique(a, return_counts=True)
+    if (counts > 1).any():
+        raise ValueError(f"{name} has duplicate {noun} {int(uniq[counts > 1][0])}")
+    return a
+
+
 def as_handles(handles, n_vertices: int, name: str = "handles") -> np.ndarray:
     """Check a non-empty 1-D array of distinct vertex indices in ``[0, n_vertices)``.
 
@@ -165,22 +185,7 @@ def as_handles(handles, n_vertices: int, name: str = "handles") -> np.ndarray:
     numpy.ndarray
         ``(h,)`` int64 copy, in the caller's order.
     """
-    a = np.asarray(handles)
-    if a.ndim != 1:
-        raise ValueError(f"{name} must be a 1-D array of vertex indices, got {_describe(a)}")
-    if a.size == 0:
-        raise ValueError(f"{name} is empty: at least one vertex must be constrained")
-    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
-        raise ValueError(f"{name} must be an integer array of vertex indices, got {_describe(a)}")
-    a = np.array(a, dtype=np.int64, copy=True)
-    out = (a < 0) | (a >= n_vertices)
-    if out.any():
-        i = int(np.flatnonzero(out)[0])
-        raise ValueError(f"{name}[{i}] = {a[i]} is out of range: there are {n_vertices} vertices")
-    uniq, counts = np.unique(a, return_counts=True)
-    if (counts > 1).any():
-        raise ValueError(f"{name} has duplicate vertex {int(uniq[counts > 1][0])}")
-    return a
+    return _distinct_indices(handles, n_vertices, name, "vertex", "at least one vertex must be constrained", "vertices")
 
 
 def as_handle_positions(handle_positions, n_handles: int, d: int, name: str = "handle_positions") -> np.ndarray:
@@ -243,19 +248,4 @@ def as_handle_indices(indices, n_handles: int, name: str = "handles") -> np.ndar
     """
     if sp.issparse(indices):
         raise ValueError(f"{name} must be a dense integer array, got a sparse matrix")
-    a = np.asarray(indices)
-    if a.ndim != 1:
-        raise ValueError(f"{name} must be a 1-D array of handle indices, got {_describe(a)}")
-    if a.size == 0:
-        raise ValueError(f"{name} is empty: at least one handle must be given")
-    if a.dtype == bool or not np.issubdtype(a.dtype, np.integer):
-        raise ValueError(f"{name} must be an integer array of handle indices, got {_describe(a)}")
-    a = np.array(a, dtype=np.int64, copy=True)
-    out = (a < 0) | (a >= n_handles)
-    if out.any():
-        i = int(np.flatnonzero(out)[0])
-        raise ValueError(f"{name}[{i}] = {a[i]} is out of range: there are {n_handles} handles (columns of W)")
-    uniq, counts = np.unique(a, return_counts=True)
-    if (counts > 1).any():
-        raise ValueError(f"{name} has duplicate handle {int(uniq[counts > 1][0])}")
-    return a
+    return _distinct_indices(indices, n_handles, name, "handle", "at least one handle must be given", "handles (columns of W)")

@@ -57,6 +57,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from starter import load_handles, load_mesh, plotting, shapes
+from starter.posing import CHARACTER_PARENTS, bone_joints, bone_transforms
 
 rng = np.random.default_rng(5)
 
@@ -208,13 +209,6 @@ def harmonic_weights(V, F, handle_sets):
     return W
 
 
-def turn_about(point, angle):
-    """2D affine transform ``[A | t]`` rotating by ``angle`` (radians) about ``point``."""
-    c, s = np.cos(angle), np.sin(angle)
-    A = np.array([[c, -s], [s, c]])
-    return np.hstack([A, (point - A @ point)[:, None]])
-
-
 V, F = load_mesh("character")
 character_handles = load_handles("character")
 bones = character_handles["bones"]  # spine, left arm, right arm, left leg, right leg
@@ -223,24 +217,16 @@ print(f"character: {len(V)} vertices; weights in [{W_bones.min():.3g}, {W_bones.
       f"row sums within {np.abs(W_bones.sum(axis=1) - 1).max():.1e} of 1")
 plotting.show_weights(V, F, W_bones, handles=bones)
 
-joints = np.array([V[bone[0]] for bone in bones])
-
-
-def compose(T2, T1):
-    """The affine transform ``x ↦ T2 [T1 [x; 1]; 1]`` (first T1, then T2)."""
-    return np.hstack([T2[:, :2] @ T1[:, :2], (T2[:, :2] @ T1[:, 2] + T2[:, 2])[:, None]])
+joints = bone_joints(V, bones)  # each bone's first vertex
 
 
 def pose(spine, left_arm, right_arm, left_leg, right_leg):
-    """One transform per bone from joint angles (radians, counter-clockwise)."""
-    T_spine = turn_about(joints[0], spine)
-    return np.array([
-        T_spine,
-        compose(T_spine, turn_about(joints[1], left_arm)),  # the arms hang on the spine
-        compose(T_spine, turn_about(joints[2], right_arm)),
-        turn_about(joints[3], left_leg),
-        turn_about(joints[4], right_leg),
-    ])
+    """One transform per bone from joint angles (radians, counter-clockwise).
+
+    ``CHARACTER_PARENTS`` hangs the arms on the spine: an arm's transform is the
+    spine's applied after the arm's own turn about its shoulder.
+    """
+    return bone_transforms(joints, [spine, left_arm, right_arm, left_leg, right_leg], CHARACTER_PARENTS)
 
 
 poses = {
@@ -258,8 +244,8 @@ plotting.show_meshes([(V, F)] + posed, titles=["rest"] + list(poses))
 # %%
 regions = character_handles["regions"]  # head, left foot, right foot
 W_regions = harmonic_weights(V, F, regions)
-head_center = V[regions[0]].mean(axis=0)
-T = np.array([turn_about(head_center, -0.4), np.hstack([np.eye(2), np.zeros((2, 1))]), np.hstack([np.eye(2), np.zeros((2, 1))])])
+# independent regions (no parents): turn the head about its centre and move it, keep the feet
+T = bone_transforms([V[r].mean(axis=0) for r in regions], [-0.4, 0.0, 0.0], [-1, -1, -1])
 T[0, :, 2] += [0.5, -0.1]
 plotting.show_deformation(V, lbs(V, W_regions, T), F, handles=np.concatenate(regions), titles=("rest", "head moved"))
 

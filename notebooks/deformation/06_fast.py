@@ -54,6 +54,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from starter import load_handles, load_mesh, plotting
+from starter.posing import bone_transforms
 
 rng = np.random.default_rng(6)
 
@@ -387,16 +388,9 @@ W = igl.bbw(V, F, b, bc)
 W /= W.sum(axis=1, keepdims=True)
 print(f"bounded biharmonic weights for {len(handles)} handles on {len(V)} vertices: {time.perf_counter() - start:.2f} s")
 
-
-def turn_about(point, angle):
-    """2D affine transform ``[A | t]`` rotating by ``angle`` (radians) about ``point``."""
-    c, s = np.cos(angle), np.sin(angle)
-    A = np.array([[c, -s], [s, c]])
-    return np.hstack([A, (point - A @ point)[:, None]])
-
-
 fixed = np.array([0, 1, 2])
-posed = np.stack([turn_about(V[head].mean(axis=0), 0.6), turn_about(V[left_foot].mean(axis=0), 0.0), turn_about(V[right_foot].mean(axis=0), 0.0)])
+# the head turns about its centre and moves; the feet stay (independent regions: no parents)
+posed = bone_transforms([V[r].mean(axis=0) for r in (head, left_foot, right_foot)], [0.6, 0.0, 0.0], [-1, -1, -1])
 posed[0, :, 2] += [-0.6, -0.25]
 
 start = time.perf_counter()
