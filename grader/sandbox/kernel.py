@@ -80,7 +80,9 @@ class SandboxedKernelManager(KernelManager):
     def kernel_spec(self) -> KernelSpec:
         """The sandboxed IPython kernel's spec (never looked up by name)."""
         return KernelSpec(
-            argv=[sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
+            # No history database: nothing reads it, and a student who fills the
+            # size-capped /tmp would otherwise get sqlite warnings in their output.
+            argv=[sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}", "--HistoryManager.enabled=False"],
             display_name="Python 3 (sandboxed)",
             language="python",
             interrupt_mode="message",
