@@ -7,6 +7,17 @@ import sys
 from pathlib import Path
 
 from grader.contract import ASSIGNMENT
+from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}")
+    return value
 
 
 def _cmd_build(args) -> int:
@@ -32,6 +43,7 @@ def _cmd_grade(args) -> int:
         workers=args.workers,
         timeout=args.timeout,
         memory_gb=args.memory,
+        max_processes=args.max_processes,
         db_url=args.db,
         seed=args.seed,
         assignment=args.assignment,
@@ -78,6 +90,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--workers", type=int, default=None, help="parallel notebooks (default: number of cores)")
     p.add_argument("--timeout", type=float, default=60.0, help="seconds per cell before the kernel is killed")
     p.add_argument("--memory", type=float, default=4.0, help="GiB of address space per kernel")
+    p.add_argument(
+        "--max-processes",
+        type=_positive_int,
+        default=DEFAULT_MAX_PROCESSES,
+        help="processes and threads a kernel may run at once (a pids cgroup, where the host allows one)",
+    )
     p.add_argument("--db", default=None, help="SQLAlchemy URL of the nbgrader gradebook (default: the course's SQLite)")
     p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: fresh, recorded in the log)")
     p.add_argument("--assignment", default=ASSIGNMENT)

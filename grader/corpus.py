@@ -32,6 +32,12 @@ notebook into one student's submission and what grading it must give:
 ``LISTENER`` (optional)
     True if the submission tries to reach a TCP listener on 127.0.0.1 that
     the harness starts; it must see no connection.
+``EVENT`` (optional)
+    A text one of the unit's recorded events must contain (a limit the
+    sandbox enforced, say).
+``NEEDS_PROCESS_CAP`` (optional)
+    True if the entry is only safe where the sandbox can cap its number of
+    processes (a pids cgroup); the corpus tests leave it out elsewhere.
 ``WEAK_CHECK`` (optional)
     Why the grader's checks do not catch this entry yet (which check, what
     it misses); its test is then an expected failure until the check is fixed.
@@ -93,6 +99,8 @@ class CorpusEntry:
     must_not_exist: tuple[str, ...] = ()
     no_process: str | None = None
     listener: bool = False
+    event: str | None = None
+    needs_process_cap: bool = False
     weak_check: str | None = None
 
     @staticmethod
@@ -138,6 +146,8 @@ def load_entry(path: str | Path) -> CorpusEntry:
         must_not_exist=tuple(getattr(module, "MUST_NOT_EXIST", ())),
         no_process=getattr(module, "NO_PROCESS", None),
         listener=bool(getattr(module, "LISTENER", False)),
+        event=getattr(module, "EVENT", None),
+        needs_process_cap=bool(getattr(module, "NEEDS_PROCESS_CAP", False)),
         weak_check=getattr(module, "WEAK_CHECK", None),
     )
     if entry.notebook not in STAGES:

@@ -20,6 +20,7 @@ from nbclient.exceptions import CellTimeoutError, DeadKernelError
 
 from grader.harness import kernel_side
 from grader.sandbox import SandboxedKernelManager, SandboxSpec, peak_memory_bytes
+from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
 KERNEL_SIDE_SOURCE = Path(kernel_side.__file__).read_text()
 STARTUP_TIMEOUT = 120
@@ -30,6 +31,7 @@ class ExecuteOptions:
     timeout: float = 60.0  # per cell
     wall: float = 900.0  # per notebook
     memory_bytes: int = 4 * 2**30
+    max_processes: int | None = DEFAULT_MAX_PROCESSES  # processes and threads alive at once
     readonly: list[Path] = field(default_factory=list)  # course data/ and starter/
 
 
@@ -112,7 +114,12 @@ def execute(
     start = time.monotonic()
     items: list[tuple[str, object]] = [("cell", i) for i in plan] + [("collect", f) for f in functions]
     replay: list[int] = []  # definition cells that finished; re-run after a restart
-    spec = SandboxSpec(workdir=workdir, readonly=options.readonly, memory_bytes=int(options.memory_bytes))
+    spec = SandboxSpec(
+        workdir=workdir,
+        readonly=options.readonly,
+        memory_bytes=int(options.memory_bytes),
+        max_processes=options.max_processes,
+    )
 
     barren_lives = 0  # kernel lives in a row that finished nothing
     while items:
@@ -173,6 +180,12 @@ def execute(
         except RuntimeError as exc:  # the kernel failed to start, or vanished mid-message
             result.events.append(f"kernel stopped: {exc}")
         finally:
+            refused = km.processes_refused()
+            if refused:
+                result.events.append(
+                    f"the sandbox refused {refused} new process(es) or thread(s): "
+                    f"at most {options.max_processes} may run at once"
+                )
             try:
                 km.shutdown_kernel(now=True)
             except Exception:  # noqa: BLE001 - it is already gone

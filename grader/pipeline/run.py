@@ -24,6 +24,7 @@ from grader.contract import ASSIGNMENT
 from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
 from grader.pipeline.unit import UnitSpec, grade_unit, sha256_of, zero_result
+from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
 
 @dataclass
@@ -31,6 +32,7 @@ class GradeOptions:
     workers: int | None = None
     timeout: float = 60.0
     memory_gb: float = 4.0
+    max_processes: int = DEFAULT_MAX_PROCESSES
     db_url: str | None = None
     seed: int | None = None
     assignment: str = ASSIGNMENT
@@ -116,6 +118,7 @@ def plan_units(submitted: Path, sources: list[Path], seed: int, options: GradeOp
                     assignment=options.assignment,
                     timeout=options.timeout,
                     memory_bytes=int(options.memory_gb * 2**30),
+                    max_processes=options.max_processes,
                     readonly=[str(paths.data), str(paths.starter)],
                     notes=notes,
                 )

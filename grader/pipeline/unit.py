@@ -24,6 +24,7 @@ from grader.pipeline.execute import ExecuteOptions, execute
 from grader.pipeline.feedback import feedback_html
 from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, verify
+from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
 
 @dataclass
@@ -52,6 +53,7 @@ class UnitSpec:
     assignment: str = "deformation"
     timeout: float = 60.0
     memory_bytes: int = 4 * 2**30
+    max_processes: int | None = DEFAULT_MAX_PROCESSES
     readonly: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
 
@@ -135,7 +137,12 @@ def grade_unit(spec: UnitSpec) -> dict:
             workdir,
             fixtures,
             outputs,
-            ExecuteOptions(timeout=spec.timeout, memory_bytes=spec.memory_bytes, readonly=[Path(p) for p in spec.readonly]),
+            ExecuteOptions(
+                timeout=spec.timeout,
+                memory_bytes=spec.memory_bytes,
+                max_processes=spec.max_processes,
+                readonly=[Path(p) for p in spec.readonly],
+            ),
         )
         tests, results = [], []
         for cell in cells:

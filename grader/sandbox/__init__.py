@@ -1,8 +1,9 @@
 """Run one student's notebook in a Jupyter kernel confined by bubblewrap.
 
 :mod:`grader.sandbox.bwrap` builds the sandboxed command line,
-:mod:`grader.sandbox.kernel` runs an IPython kernel through it, and
-:mod:`grader.sandbox.limits` holds the resource limits and process accounting.
+:mod:`grader.sandbox.kernel` runs an IPython kernel through it,
+:mod:`grader.sandbox.limits` holds the resource limits and process accounting,
+and :mod:`grader.sandbox.process_limit` caps the processes of one sandbox.
 """
 
 from grader.sandbox.bwrap import SandboxSpec, bwrap_available, wrap_command

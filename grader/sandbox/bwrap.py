@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from grader.sandbox.limits import prlimit_prefix
+from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
 __all__ = [
     "SandboxSpec",
@@ -89,6 +90,10 @@ class SandboxSpec:
     file_bytes : int
         Largest file a process may write (``RLIMIT_FSIZE``), and the size of
         the private ``/tmp`` (which lives in the host's memory).
+    max_processes : int or None
+        Largest number of processes and threads alive at once, enforced by a
+        ``pids`` cgroup (:mod:`grader.sandbox.process_limit`) where the host
+        allows one; ``None`` for no cap.
 
     Paths are made absolute and resolved (symlinks followed) on construction.
     """
@@ -100,6 +105,7 @@ class SandboxSpec:
     cpu_seconds: int | None = DEFAULT_CPU_SECONDS
     env: dict[str, str] = field(default_factory=dict)
     file_bytes: int = DEFAULT_FILE_BYTES
+    max_processes: int | None = DEFAULT_MAX_PROCESSES
 
     def __post_init__(self):
         self.workdir = Path(self.workdir).resolve()
@@ -114,6 +120,8 @@ class SandboxSpec:
             raise ValueError(f"file_bytes must be a positive int, got {self.file_bytes!r}")
         if not _is_positive_int(self.memory_bytes):
             raise ValueError(f"memory_bytes must be a positive int, got {self.memory_bytes!r}")
+        if self.max_processes is not None and not _is_positive_int(self.max_processes):
+            raise ValueError(f"max_processes must be None or a positive int, got {self.max_processes!r}")
         if self.cpu_seconds is not None and not _is_positive_int(self.cpu_seconds):
             raise ValueError(f"cpu_seconds must be None or a positive int, got {self.cpu_seconds!r}")
         if not isinstance(self.env, dict):

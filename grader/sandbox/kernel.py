@@ -9,6 +9,8 @@ path, so the paths in the connection file mean the same thing on both sides.
 from __future__ import annotations
 
 import dataclasses
+import functools
+import logging
 import os
 import sys
 
@@ -19,8 +21,11 @@ from traitlets import DottedObjectName
 
 from grader.sandbox.bwrap import SandboxSpec, wrap_command
 from grader.sandbox.limits import kill_and_reap, peak_rss_bytes, process_tree, processes_with_argument
+from grader.sandbox.process_limit import ProcessLimit, pids_parent
 
 __all__ = ["SandboxedKernelManager", "peak_memory_bytes", "KERNEL_DIR_NAME"]
+
+log = logging.getLogger(__name__)
 
 KERNEL_DIR_NAME = ".sandbox-kernel"
 
@@ -57,7 +62,14 @@ class SandboxedKernelManager(KernelManager):
 
     Start the kernel from a thread that outlives it (nbclient does): bwrap's
     ``--die-with-parent`` ties the sandbox to the starting *thread*.
+
+    Each start creates a ``pids`` cgroup capping the sandbox at
+    ``spec.max_processes`` tasks (:mod:`grader.sandbox.process_limit`), and
+    each shutdown removes it; where the host has no writable ``pids`` cgroup
+    the kernel runs uncapped and a warning says so once.
     """
+
+    process_limit: ProcessLimit | None = None
 
     client_class = DottedObjectName("jupyter_client.asynchronous.AsyncKernelClient", config=True)
 
@@ -106,7 +118,20 @@ class SandboxedKernelManager(KernelManager):
         # keeps ipykernel from polling a parent pid it cannot see and from
         # printing its "ipython kernel entry point" note on the grader's stdout.
         spec = dataclasses.replace(self.sandbox_spec, env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env})
-        return wrap_command(super().format_kernel_cmd(extra_arguments), spec)
+        command = wrap_command(super().format_kernel_cmd(extra_arguments), spec)
+        if self.process_limit is not None:
+            command = [*self.process_limit.join_prefix(), *command]
+        return command
+
+    def processes_refused(self) -> int:
+        """How many new processes or threads the kernel's cap has refused since it started.
+
+        Returns
+        -------
+        int
+            0 also when no cap is in force.
+        """
+        return self.process_limit.refused() if self.process_limit is not None else 0
 
     def blocking_client(self) -> BlockingKernelClient:
         """A synchronous client connected to this kernel.
@@ -120,6 +145,16 @@ class SandboxedKernelManager(KernelManager):
 
     async def _async_pre_start_kernel(self, **kw):
         (self.sandbox_spec.workdir / KERNEL_DIR_NAME).mkdir(mode=0o700, exist_ok=True)
+        self._remove_process_limit()
+        cap = self.sandbox_spec.max_processes
+        parent = pids_parent() if cap is not None else None
+        if parent is not None:
+            try:
+                self.process_limit = ProcessLimit(cap, parent)
+            except OSError as exc:  # e.g. the parent's own cgroup count is exhausted
+                log.warning("kernel starts without a process cap: cannot create its pids cgroup: %s", exc)
+        elif cap is not None:
+            _warn_without_process_limit()
         return await super()._async_pre_start_kernel(**kw)
 
     pre_start_kernel = run_sync(_async_pre_start_kernel)
@@ -144,8 +179,11 @@ class SandboxedKernelManager(KernelManager):
         # A polite shutdown lets the kernel exit on its own; whatever it started
         # (in the no-bwrap fallback, where no pid namespace reaps it) is killed after.
         tree = self._sandbox_processes()
-        await super()._async_shutdown_kernel(now=now, restart=restart)
-        kill_and_reap(tree)
+        try:
+            await super()._async_shutdown_kernel(now=now, restart=restart)
+        finally:
+            kill_and_reap(tree)
+            self._remove_process_limit()
 
     shutdown_kernel = run_sync(_async_shutdown_kernel)
 
@@ -160,6 +198,17 @@ class SandboxedKernelManager(KernelManager):
                 pass
 
     cleanup_resources = run_sync(_async_cleanup_resources)
+
+    def _remove_process_limit(self) -> None:
+        if self.process_limit is not None:
+            if not self.process_limit.remove():
+                log.warning("could not remove the sandbox's pids cgroup %s", self.process_limit.path)
+            self.process_limit = None
+
+
+@functools.cache
+def _warn_without_process_limit() -> None:
+    log.warning("no writable pids cgroup: sandboxes run without a cap on their number of processes")
 
 
 def peak_memory_bytes(km: SandboxedKernelManager) -> int | None:

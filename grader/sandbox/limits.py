@@ -16,7 +16,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["Process", "prlimit_prefix", "process_tree", "processes_with_argument", "peak_rss_bytes", "kill_and_reap"]
+__all__ = ["Process", "prlimit_prefix", "process_tree", "processes_with_argument", "peak_rss_bytes", "kill_and_reap", "is_alive"]
 
 
 class Process(NamedTuple):
@@ -150,6 +150,22 @@ def peak_rss_bytes(pids: Iterable[int]) -> int | None:
     """
     peaks = [kib for kib in (_status_kib(p, "VmHWM") for p in pids) if kib is not None]
     return max(peaks) * 1024 if peaks else None
+
+
+def is_alive(pid: int) -> bool:
+    """True while the process ``pid`` has not exited (a zombie has exited; it only awaits reaping).
+
+    Parameters
+    ----------
+    pid : int
+        Host pid.
+
+    Returns
+    -------
+    bool
+    """
+    fields = _stat_fields(pid)
+    return fields is not None and fields[0] != "Z"
 
 
 def _is_running(proc: Process) -> bool:

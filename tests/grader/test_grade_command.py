@@ -102,3 +102,11 @@ def test_rerunning_into_the_same_folder_reuses_results_and_writes_the_same_grade
 def test_a_missing_submitted_folder_is_a_usage_error(tmp_path, capsys):
     assert main(["grade", str(tmp_path / "nope"), "--out", str(tmp_path / "o")]) == 2
     assert "not a folder" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("bad", ["0", "-4", "lots", "2.5"])
+def test_a_process_cap_that_is_not_a_positive_integer_is_a_usage_error(tmp_path, capsys, bad):
+    with pytest.raises(SystemExit) as stop:
+        main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--max-processes", bad])
+    assert stop.value.code == 2
+    assert f"--max-processes: must be a positive integer, got {bad!r}" in capsys.readouterr().err

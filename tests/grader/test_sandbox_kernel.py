@@ -22,6 +22,8 @@ from nbclient.exceptions import CellTimeoutError
 from grader.sandbox import bwrap
 from grader.sandbox.bwrap import SandboxSpec, bwrap_available, wrap_command
 from grader.sandbox.kernel import SandboxedKernelManager, peak_memory_bytes
+from grader.sandbox.limits import is_alive
+from grader.sandbox.process_limit import pids_parent
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -350,3 +352,46 @@ def test_files_larger_than_the_limit_cannot_be_written_anywhere(tmp_path):
     finally:
         kc.stop_channels()
         km.shutdown_kernel(now=True)
+
+
+@pytest.mark.skipif(pids_parent() is None, reason="no writable pids cgroup on this machine")
+def test_a_kernel_forking_past_its_process_cap_is_refused_survives_and_leaves_nothing(tmp_path):
+    (tmp_path / "student").mkdir()
+    km, kc = _start(SandboxSpec(workdir=tmp_path / "student", max_processes=64))
+    cgroup = km.process_limit.path
+    try:
+        out, reply = _run(kc, """
+            import os, threading, time
+            children = 0
+            for _ in range(1000):
+                try:
+                    pid = os.fork()
+                except BlockingIOError:
+                    break
+                if pid == 0:
+                    time.sleep(60)
+                    os._exit(0)
+                children += 1
+            try:
+                threading.Thread(target=time.sleep, args=(60,)).start()
+                print(children, "thread started")
+            except RuntimeError as exc:
+                print(children, exc)
+        """)
+        assert reply["status"] == "ok"
+        children, _, thread = out.strip().partition(" ")
+        assert 32 < int(children) < 64, out  # the kernel's own threads count too
+        assert thread == "can't start new thread"
+        assert km.processes_refused() >= 2
+        members = km.process_limit.pids()
+        assert len(members) > int(children)
+        out, _ = _run(kc, "print(6 * 7)")
+        assert out == "42\n"
+    finally:
+        kc.stop_channels()
+        km.shutdown_kernel(now=True)
+    assert km.process_limit is None and not cgroup.exists()
+    # A zombie has exited; the host's init reaps those reparented to it.
+    left = [pid for pid in members if is_alive(pid)]
+    assert not left, left
+
