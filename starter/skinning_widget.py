@@ -1,4 +1,4 @@
-"""Interactive linear blend skinning in a notebook: libigl's demo 403 with sliders.
+"""Interactive linear blend skinning in a notebook: libigl's demo 403 with the mouse and sliders.
 
 A 2D character with bone handles is skinned with bounded biharmonic weights
 and posed by forward kinematics (:mod:`starter.posing`); every slider change
@@ -7,9 +7,11 @@ precomputed ``M = lbs_matrix(V, W)`` and renders it off screen into an image.
 
 - :func:`skinning_weights`: bounded biharmonic weights with rows summing to one;
 - :class:`SkinRenderer`: off-screen pictures of the mesh in any pose, coloured by its weights;
-- :class:`SkinningWidget`: the sliders (one rotation per bone, the root
-  translation), the picture and a label with the measured frame rates; it also
-  exports a pose sequence as an animated GIF.
+- :class:`SkinningWidget`: the picture, where dragging a bone's tip turns the
+  bone and dragging a root joint moves the character (mouse events through
+  ``ipyevents``), the sliders (one rotation per bone, the root translation)
+  and a label with the measured frame rates; it also exports a pose sequence
+  as an animated GIF.
 
 Pictures are rendered by pyvista through EGL where OpenGL works and by
 matplotlib otherwise, with the same check and warning as
@@ -27,6 +29,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import igl
+import ipyevents
 import ipywidgets as widgets
 import numpy as np
 
@@ -148,6 +151,46 @@ class SkinRenderer:
         self._scene = None
         self._gl_thread = None
 
+    def to_pixels(self, P):
+        """Where points appear in the picture.
+
+        Parameters
+        ----------
+        P : (k, 2) array_like of float
+            Points in mesh units.
+
+        Returns
+        -------
+        (k, 2) numpy.ndarray of float
+            Pixel coordinates ``(x, y)``, from the picture's top-left corner,
+            ``y`` downwards (as mouse events report them).
+        """
+        P = as_float_array(P, "P", ndim=2)
+        if P.shape[1] != 2:
+            raise ValueError(f"P must have shape (k, 2), got {P.shape}")
+        pixels_per_unit = self.size[1] / (2 * self.reach)
+        half = np.array(self.size, dtype=np.float64) / 2
+        return half + (P - self.centre) * pixels_per_unit * np.array([1.0, -1.0])
+
+    def to_world(self, pixels):
+        """The mesh-unit points shown at pixels; the inverse of :meth:`to_pixels`.
+
+        Parameters
+        ----------
+        pixels : (k, 2) array_like of float
+            Pixel coordinates ``(x, y)``, from the top-left corner, ``y`` downwards.
+
+        Returns
+        -------
+        (k, 2) numpy.ndarray of float
+        """
+        pixels = as_float_array(pixels, "pixels", ndim=2)
+        if pixels.shape[1] != 2:
+            raise ValueError(f"pixels must have shape (k, 2), got {pixels.shape}")
+        units_per_pixel = 2 * self.reach / self.size[1]
+        half = np.array(self.size, dtype=np.float64) / 2
+        return self.centre + (pixels - half) * units_per_pixel * np.array([1.0, -1.0])
+
     def render(self, U):
         """The picture of the mesh at positions ``U``.
 
@@ -264,12 +307,16 @@ class SkinRenderer:
 
 
 class SkinningWidget(widgets.VBox):
-    """Sliders that pose a skeleton and the linear blend skinning result, re-rendered on every change.
+    """A skeleton posed with the mouse or sliders, and the linear blend skinning result, re-rendered on every change.
 
     One slider per bone turns it about its joint (whole degrees, relative to
     its parent, as in :func:`starter.posing.bone_transforms`); two sliders
     translate the roots (whole hundredths of a mesh unit: centimetres for the
-    course character, whose unit is the metre). Every change computes the transforms ``T`` and the
+    course character, whose unit is the metre). In the picture, pressing the
+    mouse near a bone's tip and dragging turns that bone so that it points at
+    the mouse; pressing near a root bone's joint and dragging moves the whole
+    character with the mouse (:meth:`press`, :meth:`drag`, :meth:`release`;
+    the drag moves the sliders, so both stay in step). Every change computes the transforms ``T`` and the
     deformed positions ``U = M @ Tstack`` with ``M = igl.lbs_matrix(V, W)``
     computed once, renders ``U`` into :attr:`image` and updates :attr:`label`
     with the frame rates measured over the last ``history`` changes: LBS
@@ -309,6 +356,10 @@ class SkinningWidget(widgets.VBox):
         numbers snap to themselves.
     image : ipywidgets.Image
         The current picture (PNG).
+    mouse : ipyevents.Event
+        The picture's mouse events, throttled to one move per 15 ms.
+    pick_radius : float
+        How close to a handle, in pixels, a press must be to grab it.
     label : ipywidgets.Label
         The measured frame rates.
     renderer : SkinRenderer
@@ -351,9 +402,21 @@ class SkinningWidget(widgets.VBox):
         ]
         width, height = self.renderer.size
         self.image = widgets.Image(format="png", width=width, height=height)
+        self.mouse = ipyevents.Event(
+            source=self.image,
+            watched_events=["mousedown", "mousemove", "mouseup", "mouseleave"],
+            prevent_default_action=True,
+            throttle_or_debounce="throttle",
+            wait=15,
+        )
+        self.mouse.on_dom_event(self._mouse_event)
+        self.pick_radius = 20.0
+        self._grabbed = None
         self.label = widgets.Label()
         self._timings = deque(maxlen=int(history))
         self._paused = False
+        self.roots = np.flatnonzero(self.parents < 0)
+        self.tips = V[self.renderer.ends[:, 1]]
         super().__init__([widgets.HBox([self.image, widgets.VBox(self.angle_sliders + self.translation_sliders)]),
                           self.label])
         for slider in self.angle_sliders + self.translation_sliders:
@@ -391,6 +454,96 @@ class SkinningWidget(widgets.VBox):
             f"{rates['rendered_frames_per_second']:.1f} frames/s ({self.renderer.backend}, "
             f"{len(self.V):,} vertices, mean of the last {len(self._timings)} changes)"
         )
+
+    def handle_pixels(self) -> dict:
+        """Where the draggable handles are in the current picture.
+
+        Returns
+        -------
+        dict
+            ``tips``: (m, 2) pixel coordinates of every bone's tip; ``roots``:
+            (r, 2) those of the root bones' joints, in the order of
+            :attr:`roots`.
+        """
+        return {
+            "tips": self.renderer.to_pixels(self._apply(self.T, np.arange(len(self.tips)), self.tips)),
+            "roots": self.renderer.to_pixels(self._apply(self.T, self.roots, self.joints[self.roots])),
+        }
+
+    @staticmethod
+    def _apply(T, which, points):
+        return np.einsum("kij,kj->ki", T[which, :, :2], points) + T[which, :, 2]
+
+    def press(self, x, y):
+        """Grab the handle nearest to a pixel, if it lies within :attr:`pick_radius`.
+
+        Parameters
+        ----------
+        x, y : float
+            Pixel coordinates in the picture (from its top-left corner).
+
+        Returns
+        -------
+        tuple or None
+            ``("tip", j)`` (dragging turns bone ``j``), ``("root", j)``
+            (dragging moves the character) or ``None`` if nothing is close.
+        """
+        at = np.array([[float(x), float(y)]])
+        pixels = self.handle_pixels()
+        candidates = [("tip", j, p) for j, p in enumerate(pixels["tips"])]
+        candidates += [("root", int(j), p) for j, p in zip(self.roots, pixels["roots"])]
+        kind, j, p = min(candidates, key=lambda c: np.linalg.norm(c[2] - at[0]))
+        if np.linalg.norm(p - at[0]) > self.pick_radius:
+            self._grabbed = None
+            return None
+        self._grabbed = (kind, j, self.renderer.to_world(at)[0], self.translation)
+        return kind, j
+
+    def drag(self, x, y):
+        """Move the grabbed handle to a pixel (nothing happens if none is grabbed).
+
+        A tip turns its bone about the bone's current joint until it points
+        at the mouse; a root joint moves the character by the mouse's
+        displacement since the press. Sliders snap to whole degrees and
+        centimetres and stop at their ranges.
+
+        Parameters
+        ----------
+        x, y : float
+            Pixel coordinates in the picture.
+        """
+        if self._grabbed is None:
+            return
+        kind, j, start, translation = self._grabbed
+        at = self.renderer.to_world([[float(x), float(y)]])[0]
+        self._paused = True
+        try:
+            if kind == "tip":
+                joint = self._apply(self.T, [j], self.joints[[j]])[0]
+                tip = self._apply(self.T, [j], self.tips[[j]])[0]
+                now, wanted = tip - joint, at - joint
+                turn = np.degrees(np.arctan2(now[0] * wanted[1] - now[1] * wanted[0], now @ wanted))
+                slider = self.angle_sliders[j]
+                slider.value = int(np.clip(np.rint((slider.value + turn + 180) % 360 - 180), slider.min, slider.max))
+            else:
+                for slider, value in zip(self.translation_sliders, 100 * (translation + at - start)):
+                    slider.value = int(np.clip(np.rint(value), slider.min, slider.max))
+        finally:
+            self._paused = False
+        self.update()
+
+    def release(self):
+        """Let go of the grabbed handle."""
+        self._grabbed = None
+
+    def _mouse_event(self, event):
+        kind = event.get("type")
+        if kind == "mousedown":
+            self.press(event["dataX"], event["dataY"])
+        elif kind == "mousemove" and self._grabbed is not None:
+            self.drag(event["dataX"], event["dataY"])
+        elif kind in ("mouseup", "mouseleave"):
+            self.release()
 
     def set_pose(self, angles, translation=None):
         """Move the sliders to a pose, then update once.

@@ -40,6 +40,7 @@ pyvista>=0.44
 matplotlib>=3.8
 pillow>=10.0
 ipywidgets>=8.0
+ipyevents>=2.0
 jupyterlab>=4.0
 ipykernel>=6.29
 nbclient>=0.10

@@ -20,17 +20,22 @@
 # fine resolution (about 10,000 vertices):
 #
 # 1. bounded biharmonic weights for the five bones, computed once;
-# 2. a widget: one slider per bone turns it about its joint, two sliders move
-#    the whole character, and every change re-evaluates LBS and redraws;
+# 2. a widget: drag a bone's tip with the mouse and the bone turns to follow
+#    it, drag the hips and the whole character moves; sliders do the same
+#    with numbers, and every change re-evaluates LBS and redraws;
 # 3. a scripted animation, saved as an animated GIF for your notes;
 # 4. the measured frame rate.
 #
-# **Sliders, not dragging.** libigl's viewer lets you drag the handles with
-# the mouse; in JupyterLab that would take pyvista's `trame` backend, which the
-# course environment does not install. The widget uses `ipywidgets` sliders
-# instead and renders every frame off screen (pyvista through EGL, or
-# matplotlib where OpenGL is missing) into an image. The sliders respond when
-# the kernel is running: in an exported HTML page they do nothing.
+# **How the dragging works.** libigl's viewer draws the mesh with OpenGL in
+# its own window and picks handles under the mouse. Here the kernel renders
+# every frame off screen (pyvista through EGL, or matplotlib where OpenGL is
+# missing) into an image widget; `ipyevents` sends the mouse's presses and
+# moves over that image back to the kernel, which finds the handle under the
+# mouse from the fixed view, turns or moves it, and redraws. (pyvista's
+# `trame` backend would stream a live 3D view instead, but it needs its own
+# web server beside Jupyter; for a 2D character an image is all it takes.)
+# Mouse and sliders respond while the kernel runs: in an exported HTML page
+# they do nothing.
 
 # %%
 import time
@@ -77,11 +82,17 @@ plotting.show_weights(V, F, W, handles=bones)
 #
 # $$U = M\,T_{\text{stack}}, \qquad M = \texttt{lbs\_matrix}(V, W)\ \text{(computed once)},$$
 #
-# on every slider change: a single $n \times 3m$ by $3m \times 2$ product.
+# on every change: a single $n \times 3m$ by $3m \times 2$ product.
 # The colours blend one colour per bone with the weights, the dark segments
 # are the posed bones, and the line below the sliders reports the measured
 # rates: LBS updates per second, and frames per second with the picture drawn
 # and sent to the browser.
+#
+# **Try it:** press near the end of a dark segment (a bone's tip) and drag:
+# the bone turns about its joint to point at the mouse, and the bones hanging
+# on it follow. Press near the hips (where the spine and legs start) and drag
+# to move the character. The sliders follow the mouse, whole degrees and
+# centimetres at a time.
 
 # %%
 demo = SkinningWidget(V, F, W, bones, CHARACTER_PARENTS, names=bone_names)

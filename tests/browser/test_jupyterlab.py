@@ -1,6 +1,6 @@
 """JupyterLab in headless Chromium: a release notebook filled with the reference solutions and the
-skinning demo run all their cells, show no error and show the rendered mesh; dragging a demo slider
-redraws the character.
+skinning demo run all their cells, show no error and show the rendered mesh; dragging a bone's tip
+in the demo's picture turns that bone, and dragging a slider redraws the character.
 
 The browser is Debian's ``/usr/bin/chromium`` driven by the ``playwright`` package's bundled driver
 (never a downloaded browser); the test skips where either is missing. JupyterLab listens on
@@ -26,6 +26,9 @@ import nbformat
 import numpy as np
 import pytest
 from PIL import Image
+
+from starter.meshes import load_handles, load_mesh
+from starter.skinning_widget import SkinRenderer
 
 CHROMIUM = Path("/usr/bin/chromium")
 if not CHROMIUM.is_file():
@@ -241,7 +244,15 @@ def test_a_release_notebook_filled_with_the_reference_runs_in_jupyterlab_and_sho
     page.close()
 
 
-def test_the_skinning_demo_runs_in_jupyterlab_and_a_dragged_slider_redraws_the_character(lab, browser, workdir):
+def rest_bone_pixels(bone: int, size=(480, 480)) -> np.ndarray:
+    """Where the demo's picture shows a bone's joint and tip in the rest pose (the widget's default view), (2, 2)."""
+    V, F = load_mesh("character_fine")
+    bones = load_handles("character_fine")["bones"]
+    renderer = SkinRenderer(V, F, np.eye(len(bones))[np.zeros(len(V), dtype=int)], bones, size)
+    return renderer.to_pixels(V[[bones[bone][0], bones[bone][-1]]])
+
+
+def test_the_skinning_demo_runs_in_jupyterlab_and_dragging_a_bone_or_a_slider_redraws_the_character(lab, browser, workdir):
     page = browser.new_page()
     nb, shot = run_all_cells(page, lab, DEMO, workdir)
     assert errors(nb) == [], f"screenshot: {shot}"
@@ -252,8 +263,36 @@ def test_the_skinning_demo_runs_in_jupyterlab_and_a_dragged_slider_redraws_the_c
     before = element_picture(image, before_path)
     assert 0.05 < drawn_fraction(before) < 0.7, f"the widget shows no character: {before_path} (page: {shot})"
 
-    readout = page.locator(f"{PANEL} .widget-slider .widget-readout").first
-    assert readout.inner_text().strip() == "0", f"the demo ends in the rest pose; page: {shot}"
+    readouts = page.locator(f"{PANEL} .widget-slider .widget-readout")
+    assert [readouts.nth(k).inner_text().strip() for k in range(7)] == ["0"] * 7, f"the demo ends in the rest pose; page: {shot}"
+
+    # Drag the left arm's tip upwards in the picture: the arm turns to follow the mouse.
+    source = image.get_attribute("src")
+    box = image.bounding_box()
+    scale = box["width"] / 480
+    joint, tip = rest_bone_pixels(1)
+    target = tip + [20.0, -90.0]
+    page.mouse.move(box["x"] + tip[0] * scale, box["y"] + tip[1] * scale)
+    page.mouse.down()
+    page.mouse.move(box["x"] + target[0] * scale, box["y"] + target[1] * scale, steps=10)
+    page.mouse.up()
+    page.wait_for_function("(el) => el.textContent.trim() !== '0'", arg=readouts.nth(1).element_handle(), timeout=30_000)
+    page.wait_for_function("([el, src]) => el.getAttribute('src') !== src", arg=[image.element_handle(), source],
+                           timeout=30_000)
+    dragged_path = workdir / f"{DEMO}-widget-arm-dragged.png"
+    dragged = element_picture(image, dragged_path)
+    turned = int(readouts.nth(1).inner_text().strip().replace("\u2212", "-"))  # the readout writes U+2212 for minus
+    # The arm turns about its joint to point at the mouse (pixel y points down, mesh y up). Moves are
+    # throttled, so the last one may be dropped: a few degrees of slack.
+    (ax, ay), (bx, by) = (tip - joint) * [1, -1], (target - joint) * [1, -1]
+    wanted = np.degrees(np.arctan2(ax * by - ay * bx, ax * bx + ay * by))
+    assert abs(turned - wanted) < 6, f"left arm turned {turned}°, the mouse asked for {wanted:.0f}°: {dragged_path}"
+    assert [readouts.nth(k).inner_text().strip() for k in (0, 2, 3, 4, 5, 6)] == ["0"] * 6, f"only the left arm moves: {dragged_path}"
+    changed = float((np.abs(dragged.astype(int) - before.astype(int)).max(axis=-1) > 30).mean())
+    assert changed > 0.005, f"only {changed:.2%} of the picture changed: {before_path} vs {dragged_path}"
+
+    readout = readouts.first
+    before, before_path = dragged, dragged_path
     source = image.get_attribute("src")
     handle = page.locator(f"{PANEL} .widget-slider .noUi-handle").first
     box = handle.bounding_box()

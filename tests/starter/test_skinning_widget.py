@@ -58,9 +58,8 @@ def foreground(img):
 
 def pixel(renderer, x):
     """Row and column of the point ``x`` in the renderer's fixed view."""
-    width, height = renderer.size
-    scale = (height / 2) / renderer.reach
-    return int(round(height / 2 - (x[1] - renderer.centre[1]) * scale)), int(round(width / 2 + (x[0] - renderer.centre[0]) * scale))
+    col, row = np.rint(renderer.to_pixels([x])[0]).astype(int)
+    return row, col
 
 
 def test_weights_are_one_on_their_bone_bounded_and_a_partition_of_unity_on_the_fine_character():
@@ -204,6 +203,8 @@ def test_the_renderer_uses_the_backend_that_works(widget, backend):
         (lambda w, tmp: w.set_pose(np.zeros(4)), "angles must have one entry per bone (5)"),
         (lambda w, tmp: w.set_pose(np.zeros(5), [np.nan, 0.0]), "translation contains NaN"),
         (lambda w, tmp: w.renderer.render(np.zeros((3, 2))), "U must have the shape of V"),
+        (lambda w, tmp: w.renderer.to_pixels(np.zeros((3, 3))), "P must have shape (k, 2)"),
+        (lambda w, tmp: w.renderer.to_world(np.zeros(2)), "pixels must be a 2-D array"),
     ],
 )
 def test_bad_calls_are_refused_naming_the_argument(widget, tmp_path, call, message):
@@ -274,3 +275,83 @@ def test_a_renderer_without_bones_draws_only_the_mesh(character, backend):
         assert foreground(img) > 0 and not (img.max(axis=-1) < 60).any()
     finally:
         renderer.close()
+
+
+def _turn(a, b):
+    """Signed angle from vector a to vector b, in degrees."""
+    return np.degrees(np.arctan2(a[0] * b[1] - a[1] * b[0], a @ b))
+
+
+def test_pixels_and_mesh_units_map_back_and_forth_with_the_view_centre_in_the_middle(widget):
+    r = widget.renderer
+    assert np.allclose(r.to_pixels([r.centre]), [[SIZE[0] / 2, SIZE[1] / 2]])
+    # one reach above the centre is the top edge; y grows downwards in pixels
+    assert np.allclose(r.to_pixels([r.centre + [0.0, r.reach]]), [[SIZE[0] / 2, 0.0]])
+    points = np.random.default_rng(1).uniform(-2, 2, (50, 2))
+    assert np.allclose(r.to_world(r.to_pixels(points)), points, atol=1e-12)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(bone=st.integers(0, 4), dx=st.floats(-80, 80), dy=st.floats(-80, 80), start=st.floats(-90, 90))
+def test_dragging_a_tip_turns_its_bone_to_point_at_the_mouse(widget, bone, dx, dy, start):
+    angles = np.zeros(5)
+    angles[bone] = np.radians(start)
+    widget.set_pose(angles)
+    tip = widget.handle_pixels()["tips"][bone]
+    assert widget.press(*(tip + [2.0, -3.0])) == ("tip", bone)
+    target = tip + [dx, dy]
+    joint = widget.renderer.to_pixels(widget._apply(widget.T, [bone], widget.joints[[bone]]))[0]
+    if np.linalg.norm(target - joint) < 5:  # pointing at a spot on the joint has no direction
+        return
+    widget.drag(*target)
+    now = widget.handle_pixels()["tips"][bone]
+    assert abs(_turn(now - joint, target - joint)) <= 0.5 + 1e-9  # sliders hold whole degrees
+    others = np.delete(np.arange(5), bone)
+    assert np.array_equal(np.degrees(widget.angles)[others], np.zeros(4))
+    # the mesh follows: the picture's U is the LBS of the dragged pose
+    assert np.allclose(widget.U, skinned(widget.V, widget.W, widget.T), atol=1e-12)
+
+
+def test_dragging_a_root_joint_moves_the_character_with_the_mouse(widget):
+    widget.set_pose(np.radians([10.0, -30.0, 0.0, 5.0, 0.0]))
+    before = widget.U.copy()
+    root = widget.handle_pixels()["roots"][0]
+    assert widget.press(*root) == ("root", 0)
+    widget.drag(*(root + [30.0, -12.0]))
+    moved = widget.handle_pixels()["roots"][0]
+    units_per_pixel = 2 * widget.renderer.reach / SIZE[1]
+    assert np.abs(moved - (root + [30.0, -12.0])).max() * units_per_pixel <= 0.005 + 1e-9  # whole centimetres
+    shift = widget.U - before
+    assert np.allclose(shift, shift[0], atol=1e-12)  # a pure translation of every vertex
+    widget.release()
+    widget.drag(*(root + [90.0, 90.0]))  # released: nothing is grabbed, nothing moves
+    assert np.array_equal(widget.handle_pixels()["roots"][0], moved)
+
+
+def test_a_root_drag_stops_at_the_translation_sliders_range(widget):
+    widget.set_pose(np.zeros(5))
+    root = widget.handle_pixels()["roots"][0]
+    widget.press(*root)
+    widget.drag(root[0] + 10 * SIZE[0], root[1])
+    assert widget.translation.tolist() == [0.5, 0.0]
+
+
+def test_a_press_away_from_every_handle_grabs_nothing(widget):
+    widget.set_pose(np.zeros(5))
+    far = widget.handle_pixels()["tips"][0] + [0.0, -widget.pick_radius - 15]
+    assert widget.press(*far) is None
+    before = widget.U.copy()
+    widget.drag(*(far + [40.0, 40.0]))
+    assert np.array_equal(widget.U, before)
+
+
+def test_browser_mouse_events_drive_press_drag_and_release(widget):
+    widget.set_pose(np.zeros(5))
+    tip = widget.handle_pixels()["tips"][1]
+    widget._mouse_event({"type": "mousedown", "dataX": tip[0], "dataY": tip[1]})
+    widget._mouse_event({"type": "mousemove", "dataX": tip[0], "dataY": tip[1] - 60})
+    turned = np.degrees(widget.angles[1])
+    assert turned != 0
+    widget._mouse_event({"type": "mouseleave", "dataX": -1, "dataY": -1})
+    widget._mouse_event({"type": "mousemove", "dataX": tip[0] + 50, "dataY": tip[1]})
+    assert np.degrees(widget.angles[1]) == turned
