@@ -516,21 +516,15 @@ class SkinningWidget(widgets.VBox):
             return
         kind, j, start, translation = self._grabbed
         at = self.renderer.to_world([[float(x), float(y)]])[0]
-        self._paused = True
-        try:
-            if kind == "tip":
-                joint = self._apply(self.T, [j], self.joints[[j]])[0]
-                tip = self._apply(self.T, [j], self.tips[[j]])[0]
-                now, wanted = tip - joint, at - joint
-                turn = np.degrees(np.arctan2(now[0] * wanted[1] - now[1] * wanted[0], now @ wanted))
-                slider = self.angle_sliders[j]
-                slider.value = int(np.clip(np.rint((slider.value + turn + 180) % 360 - 180), slider.min, slider.max))
-            else:
-                for slider, value in zip(self.translation_sliders, 100 * (translation + at - start)):
-                    slider.value = int(np.clip(np.rint(value), slider.min, slider.max))
-        finally:
-            self._paused = False
-        self.update()
+        if kind == "tip":
+            joint = self._apply(self.T, [j], self.joints[[j]])[0]
+            tip = self._apply(self.T, [j], self.tips[[j]])[0]
+            now, wanted = tip - joint, at - joint
+            turn = np.degrees(np.arctan2(now[0] * wanted[1] - now[1] * wanted[0], now @ wanted))
+            slider = self.angle_sliders[j]
+            self._move_sliders([slider], [(slider.value + turn + 180) % 360 - 180])
+        else:
+            self._move_sliders(self.translation_sliders, 100 * (translation + at - start))
 
     def release(self):
         """Let go of the grabbed handle."""
@@ -565,11 +559,15 @@ class SkinningWidget(widgets.VBox):
         translation = np.zeros(2) if translation is None else as_float_array(translation, "translation", ndim=1)
         if translation.shape != (2,):
             raise ValueError(f"translation must have shape (2,), got {translation.shape}")
+        self._move_sliders(self.angle_sliders + self.translation_sliders,
+                           np.concatenate([np.degrees(angles), 100 * translation]))
+
+    def _move_sliders(self, sliders, values):
+        """Set sliders to values rounded to whole steps and clamped to their ranges, then update once."""
         self._paused = True
         try:
-            for slider, value in zip(self.angle_sliders + self.translation_sliders,
-                                     np.rint(np.concatenate([np.degrees(angles), 100 * translation]))):
-                slider.value = int(np.clip(value, slider.min, slider.max))
+            for slider, value in zip(sliders, values):
+                slider.value = int(np.clip(np.rint(value), slider.min, slider.max))
         finally:
             self._paused = False
         self.update()
