@@ -526,8 +526,21 @@ class SkinningWidget(widgets.VBox):
         else:
             self._move_sliders(self.translation_sliders, 100 * (translation + at - start))
 
-    def release(self):
-        """Let go of the grabbed handle."""
+    def release(self, x=None, y=None):
+        """Let go of the grabbed handle, after moving it to a pixel if one is given.
+
+        The browser throttles mouse moves and sends the button's release at
+        once, so the last move can arrive after the release, or never: the
+        release's own position is where the drag ends.
+
+        Parameters
+        ----------
+        x, y : float, optional
+            Pixel coordinates of the release; without them the handle stays
+            where the last move put it.
+        """
+        if x is not None and y is not None:
+            self.drag(x, y)
         self._grabbed = None
 
     def _mouse_event(self, event):
@@ -537,7 +550,7 @@ class SkinningWidget(widgets.VBox):
         elif kind == "mousemove" and self._grabbed is not None:
             self.drag(event["dataX"], event["dataY"])
         elif kind in ("mouseup", "mouseleave"):
-            self.release()
+            self.release(event.get("dataX"), event.get("dataY"))
 
     def set_pose(self, angles, translation=None):
         """Move the sliders to a pose, then update once.

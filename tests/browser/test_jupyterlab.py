@@ -276,17 +276,22 @@ def test_the_skinning_demo_runs_in_jupyterlab_and_dragging_a_bone_or_a_slider_re
     page.mouse.down()
     page.mouse.move(box["x"] + target[0] * scale, box["y"] + target[1] * scale, steps=10)
     page.mouse.up()
-    page.wait_for_function("(el) => el.textContent.trim() !== '0'", arg=readouts.nth(1).element_handle(), timeout=30_000)
-    page.wait_for_function("([el, src]) => el.getAttribute('src') !== src", arg=[image.element_handle(), source],
-                           timeout=30_000)
-    dragged_path = workdir / f"{DEMO}-widget-arm-dragged.png"
-    dragged = element_picture(image, dragged_path)
-    turned = int(readouts.nth(1).inner_text().strip().replace("\u2212", "-"))  # the readout writes U+2212 for minus
-    # The arm turns about its joint to point at the mouse (pixel y points down, mesh y up). Moves are
-    # throttled, so the last one may be dropped: a few degrees of slack.
+    # The arm turns about its joint to point where the mouse was released (pixel y points down, mesh
+    # y up); the slider holds whole degrees. Moves are throttled, so wait for the release's pose.
     (ax, ay), (bx, by) = (tip - joint) * [1, -1], (target - joint) * [1, -1]
     wanted = np.degrees(np.arctan2(ax * by - ay * bx, ax * bx + ay * by))
-    assert abs(turned - wanted) < 6, f"left arm turned {turned}°, the mouse asked for {wanted:.0f}°: {dragged_path}"
+    arm = readouts.nth(1)
+    try:
+        page.wait_for_function("([el, wanted]) => Math.abs(Number(el.textContent.trim().replace('\u2212', '-')) - wanted) <= 1",
+                               arg=[arm.element_handle(), float(wanted)], timeout=30_000)
+        page.wait_for_function("([el, src]) => el.getAttribute('src') !== src", arg=[image.element_handle(), source],
+                               timeout=30_000)
+    except sync_api.TimeoutError:
+        pass  # the assertions below say what was shown instead
+    dragged_path = workdir / f"{DEMO}-widget-arm-dragged.png"
+    dragged = element_picture(image, dragged_path)
+    turned = int(arm.inner_text().strip().replace("\u2212", "-"))  # the readout writes U+2212 for minus
+    assert abs(turned - wanted) <= 1, f"left arm turned {turned}°, the mouse asked for {wanted:.1f}°: {dragged_path}"
     assert [readouts.nth(k).inner_text().strip() for k in (0, 2, 3, 4, 5, 6)] == ["0"] * 6, f"only the left arm moves: {dragged_path}"
     changed = float((np.abs(dragged.astype(int) - before.astype(int)).max(axis=-1) > 30).mean())
     assert changed > 0.005, f"only {changed:.2%} of the picture changed: {before_path} vs {dragged_path}"

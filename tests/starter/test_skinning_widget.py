@@ -350,8 +350,35 @@ def test_browser_mouse_events_drive_press_drag_and_release(widget):
     tip = widget.handle_pixels()["tips"][1]
     widget._mouse_event({"type": "mousedown", "dataX": tip[0], "dataY": tip[1]})
     widget._mouse_event({"type": "mousemove", "dataX": tip[0], "dataY": tip[1] - 60})
+    assert np.degrees(widget.angles[1]) != 0
+    widget._mouse_event({"type": "mouseleave", "dataX": tip[0] + 60, "dataY": tip[1] - 60})
     turned = np.degrees(widget.angles[1])
-    assert turned != 0
-    widget._mouse_event({"type": "mouseleave", "dataX": -1, "dataY": -1})
     widget._mouse_event({"type": "mousemove", "dataX": tip[0] + 50, "dataY": tip[1]})
     assert np.degrees(widget.angles[1]) == turned
+
+
+@pytest.mark.parametrize("end", ["mouseup", "mouseleave"])
+def test_a_drag_ends_where_the_mouse_was_released_even_if_the_last_move_never_arrived(widget, end):
+    # The browser throttles moves but sends the release at once: the release's position must win.
+    widget.set_pose(np.zeros(5))
+    tip = widget.handle_pixels()["tips"][1]
+    joint = widget.renderer.to_pixels(widget._apply(widget.T, [1], widget.joints[[1]]))[0]
+    widget._mouse_event({"type": "mousedown", "dataX": tip[0], "dataY": tip[1]})
+    widget._mouse_event({"type": "mousemove", "dataX": tip[0] + 5, "dataY": tip[1] - 20})
+    target = tip + [20.0, -90.0]
+    widget._mouse_event({"type": end, "dataX": target[0], "dataY": target[1]})
+    now = widget.handle_pixels()["tips"][1]
+    assert abs(_turn(now - joint, target - joint)) <= 0.5 + 1e-9
+    widget._mouse_event({"type": "mousemove", "dataX": tip[0], "dataY": tip[1]})  # a late move changes nothing
+    assert np.array_equal(widget.handle_pixels()["tips"][1], now)
+
+
+def test_a_release_without_a_position_keeps_the_last_moves_pose(widget):
+    widget.set_pose(np.zeros(5))
+    root = widget.handle_pixels()["roots"][0]
+    widget.press(*root)
+    widget.drag(*(root + [25.0, 0.0]))
+    moved = widget.translation.copy()
+    widget.release()
+    assert np.array_equal(widget.translation, moved)
+    assert moved.tolist() != [0.0, 0.0]
