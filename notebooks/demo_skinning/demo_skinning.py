@@ -103,7 +103,9 @@ demo
 #
 # The same widget poses the character from code: here a wave with a little
 # bounce, one period in 40 frames, saved as a looping GIF (the sliders stay
-# where you left them).
+# where you left them). A name ending in `.mp4` writes an H.264 video instead,
+# smaller and smoother for slides; it needs PyAV (`pip install av`), whose
+# wheel brings its own FFmpeg.
 
 # %%
 phase = 2 * np.pi * np.arange(40) / 40

@@ -176,6 +176,23 @@ def test_export_animation_writes_one_gif_frame_per_pose_and_leaves_the_sliders(w
     assert [s.value for s in widget.angle_sliders + widget.translation_sliders] == sliders
 
 
+def test_export_animation_writes_an_mp4_whose_frames_are_the_widgets_pictures(widget, tmp_path):
+    av = pytest.importorskip("av", reason="PyAV (the video extra) is not installed")
+    angles = np.radians([[0, 0, 0, 0, 0], [10, -40, 40, 5, -5], [20, -80, 80, 10, -10]])
+    path = widget.export_animation(tmp_path / "wave.mp4", angles, fps=12)
+    assert path == tmp_path / "wave.mp4"
+    with av.open(str(path)) as container:
+        stream = container.streams.video[0]
+        assert (stream.codec_context.name, stream.width, stream.height, stream.average_rate) == ("h264", *SIZE, 12)
+        decoded = [frame.to_ndarray(format="rgb24") for frame in container.decode(video=0)]
+    assert len(decoded) == 3
+    for pose, picture in zip(angles, decoded):
+        drawn = widget.renderer.render(widget._positions(pose, np.zeros(2))[1]).astype(float)
+        mse = np.mean((picture - drawn) ** 2)
+        assert 10 * np.log10(255**2 / mse) >= 30, "each decoded frame is the picture of its pose"
+    assert np.degrees(widget.angles).tolist() == [0.0] * 5  # the sliders stay where they were
+
+
 def test_a_slider_change_delivered_on_another_thread_renders_the_same_picture(widget):
     # A kernel may run comm handlers (slider changes) on another thread than cell execution.
     widget.set_pose(np.radians([10.0, -30.0, 45.0, 5.0, -5.0]))
@@ -195,11 +212,12 @@ def test_the_renderer_uses_the_backend_that_works(widget, backend):
 @pytest.mark.parametrize(
     "call, message",
     [
-        (lambda w, tmp: w.export_animation(tmp / "a.mp4", np.zeros((2, 5))), "path must end in .gif"),
+        (lambda w, tmp: w.export_animation(tmp / "a.avi", np.zeros((2, 5))), "path must end in .gif or .mp4"),
         (lambda w, tmp: w.export_animation(tmp / "a.gif", np.zeros((2, 4))), "angles must have shape (k, 5)"),
         (lambda w, tmp: w.export_animation(tmp / "a.gif", np.zeros((0, 5))), "angles must have shape (k, 5)"),
         (lambda w, tmp: w.export_animation(tmp / "a.gif", np.zeros((2, 5)), np.zeros((3, 2))), "translations must have shape (2, 2)"),
         (lambda w, tmp: w.export_animation(tmp / "a.gif", np.zeros((2, 5)), fps=0), "fps must be positive"),
+        (lambda w, tmp: w.export_animation(tmp / "a.mp4", np.zeros((2, 5)), fps=float("inf")), "fps contains NaN or inf"),
         (lambda w, tmp: w.set_pose(np.zeros(4)), "angles must have one entry per bone (5)"),
         (lambda w, tmp: w.set_pose(np.zeros(5), [np.nan, 0.0]), "translation contains NaN"),
         (lambda w, tmp: w.renderer.render(np.zeros((3, 2))), "U must have the shape of V"),
