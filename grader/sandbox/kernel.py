@@ -20,7 +20,7 @@ from jupyter_core.utils import run_sync
 from traitlets import DottedObjectName
 
 from grader.sandbox.bwrap import SandboxSpec, wrap_command
-from grader.sandbox.limits import kill_and_reap, peak_rss_bytes, process_tree, processes_with_argument
+from grader.sandbox.limits import Process, kill_and_reap, peak_rss_bytes, process, process_tree, processes_with_argument
 from grader.sandbox.process_limit import ProcessLimit, pids_parent
 
 __all__ = ["SandboxedKernelManager", "peak_memory_bytes", "KERNEL_DIR_NAME"]
@@ -70,6 +70,7 @@ class SandboxedKernelManager(KernelManager):
     """
 
     process_limit: ProcessLimit | None = None
+    launcher: Process | None = None
 
     client_class = DottedObjectName("jupyter_client.asynchronous.AsyncKernelClient", config=True)
 
@@ -159,14 +160,20 @@ class SandboxedKernelManager(KernelManager):
 
     pre_start_kernel = run_sync(_async_pre_start_kernel)
 
+    async def _async_launch_kernel(self, kernel_cmd: list[str], **kw) -> None:
+        await super()._async_launch_kernel(kernel_cmd, **kw)
+        # Remember the launcher with its start time: once jupyter_client has
+        # reaped it, its pid may go to any process on the host.
+        self.launcher = process(self.provisioner.pid)
+
+    _launch_kernel = run_sync(_async_launch_kernel)
+
     def _sandbox_processes(self):
         # Every process carrying the connection file in its argv is this
         # sandbox's launcher, bwrap or kernel: that also finds a sandbox whose
         # launcher died during setup, leaving bwrap's init orphaned.
         roots = processes_with_argument(os.path.realpath(self.connection_file))
-        if self.provisioner is not None and self.provisioner.pid is not None and self.has_kernel:
-            roots.insert(0, self.provisioner.pid)
-        return process_tree(*roots)
+        return process_tree(*([self.launcher] if self.launcher is not None else []), *roots)
 
     async def _async_kill_kernel(self, restart: bool = False) -> None:
         # The whole tree at once, before the launcher dies and orphans it.

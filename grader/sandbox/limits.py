@@ -16,7 +16,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["Process", "prlimit_prefix", "process_tree", "processes_with_argument", "peak_rss_bytes", "kill_and_reap", "is_alive"]
+__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "processes_with_argument", "peak_rss_bytes", "kill_and_reap", "is_alive"]
 
 
 class Process(NamedTuple):
@@ -64,13 +64,15 @@ def _stat_fields(pid: int) -> list[str] | None:
     return stat.rpartition(")")[2].split()
 
 
-def process_tree(*roots: int) -> list[Process]:
+def process_tree(*roots: int | Process) -> list[Process]:
     """Return the root processes and all their live descendants.
 
     Parameters
     ----------
-    *roots : int
-        Host pids of the roots.
+    *roots : int or Process
+        Host pids of the roots. A :class:`Process` root counts only while its
+        pid still belongs to it: a pid kept after its process was reaped may
+        have been given to an unrelated process since.
 
     Returns
     -------
@@ -87,13 +89,33 @@ def process_tree(*roots: int) -> list[Process]:
     children: dict[int, list[int]] = {}
     for child, parent in parents.items():
         children.setdefault(parent, []).append(child)
-    tree = list(dict.fromkeys(r for r in roots if r in parents))
+    live = [r.pid if isinstance(r, Process) else r for r in roots
+            if (r.pid in parents and starts[r.pid] == r.start_ticks if isinstance(r, Process) else r in parents)]
+    tree = list(dict.fromkeys(live))
     seen = set(tree)
     for p in tree:  # the list grows while we walk it: breadth-first
         new = [c for c in children.get(p, []) if c not in seen]
         seen.update(new)
         tree.extend(new)
     return [Process(p, starts[p]) for p in tree]
+
+
+def process(pid: int) -> Process | None:
+    """The process that holds ``pid`` now, or ``None`` if none does.
+
+    Parameters
+    ----------
+    pid : int
+        Host pid.
+
+    Returns
+    -------
+    Process or None
+        With its start time, so that later calls can tell it from a process
+        given the same pid after it is reaped.
+    """
+    fields = _stat_fields(pid)
+    return None if fields is None else Process(pid, int(fields[19]))
 
 
 def processes_with_argument(argument: str) -> list[int]:

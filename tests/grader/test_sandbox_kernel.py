@@ -291,6 +291,26 @@ def test_shutdown_kills_a_sandbox_orphaned_by_its_launcher(tmp_path, host_cmdlin
     assert not any(connection_file in c for c in host_cmdlines())
 
 
+def test_shutdown_after_the_kernel_died_spares_the_process_that_was_given_its_launchers_pid(tmp_path):
+    # Once jupyter_client has reaped a dead launcher it still reports its pid; on
+    # a busy host (pid_max 32768) that pid soon belongs to another process.
+    km, kc = _start(_course(tmp_path))
+    bystander = subprocess.Popen(["sleep", "600"])
+    try:
+        kc.execute("import os; os._exit(1)")
+        deadline = time.monotonic() + 30
+        while km.is_alive() and time.monotonic() < deadline:  # is_alive polls: the launcher is reaped
+            time.sleep(0.05)
+        assert not km.is_alive()
+        km.provisioner.pid = bystander.pid  # what pid reuse looks like from here
+        kc.stop_channels()
+        km.shutdown_kernel(now=True)
+        assert bystander.poll() is None, "shutdown killed an unrelated process"
+    finally:
+        bystander.kill()
+        bystander.wait()
+
+
 def test_hidden_packages_and_paths_inside_mounted_trees_are_masked(tmp_path, monkeypatch):
     # A non-editable install puts the package inside a tree the sandbox binds.
     site = tmp_path / "site"

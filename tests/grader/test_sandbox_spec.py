@@ -11,7 +11,7 @@ import pytest
 
 from grader.sandbox.bwrap import SandboxSpec, wrap_command
 from grader.sandbox.kernel import SandboxedKernelManager
-from grader.sandbox.limits import Process, kill_and_reap, peak_rss_bytes, process_tree
+from grader.sandbox.limits import Process, kill_and_reap, peak_rss_bytes, process, process_tree
 
 
 @pytest.mark.parametrize(
@@ -100,6 +100,14 @@ def test_kill_and_reap_spares_a_recycled_pid(shell_with_two_sleepers):
     imposter = Process(tree[1].pid, tree[1].start_ticks + 1)
     assert kill_and_reap([imposter]) == []
     assert [p.pid for p in process_tree(proc.pid)] == [p.pid for p in tree]
+
+
+def test_a_root_given_as_a_process_counts_only_while_its_pid_is_still_its_own(shell_with_two_sleepers):
+    proc, tree = shell_with_two_sleepers
+    assert process(proc.pid) == tree[0]
+    assert process_tree(tree[0]) == tree
+    assert process_tree(Process(proc.pid, tree[0].start_ticks + 1)) == []  # the pid went to someone else
+    assert process_tree(Process(proc.pid, tree[0].start_ticks + 1), tree[1].pid) == [tree[1]]
 
 
 def test_peak_rss_covers_a_child_allocation():
