@@ -92,8 +92,9 @@ class SandboxSpec:
         the private ``/tmp`` (which lives in the host's memory).
     max_processes : int or None
         Largest number of processes and threads alive at once, enforced by a
-        ``pids`` cgroup (:mod:`grader.sandbox.process_limit`) where the host
-        allows one; ``None`` for no cap.
+        ``pids`` cgroup or, failing that, by ``RLIMIT_NPROC`` inside the
+        sandbox's own user namespace (:mod:`grader.sandbox.process_limit`);
+        ``None`` for no cap.
 
     Paths are made absolute and resolved (symlinks followed) on construction.
     """
@@ -140,6 +141,20 @@ def _is_env_name(x) -> bool:
     return isinstance(x, str) and x != "" and "=" not in x
 
 
+def _trial(*command: str) -> subprocess.CompletedProcess | None:
+    """Run ``command`` in a trial sandbox with the real namespaces; ``None`` if it cannot start."""
+    exe = shutil.which("bwrap")
+    if exe is None:
+        return None
+    # The same namespaces and kernel filesystems as a real sandbox: containers
+    # often allow the namespaces but refuse to mount /proc.
+    mounts = ["--ro-bind", "/", "/", "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
+    try:
+        return subprocess.run([exe, *_isolation_args(), *mounts, *command], capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+
+
 @functools.cache
 def bwrap_available() -> bool:
     """Whether bubblewrap is installed and can create namespaces here.
@@ -150,17 +165,28 @@ def bwrap_available() -> bool:
         ``True`` if ``bwrap`` is on ``PATH`` and a trial sandbox with every
         namespace unshared runs ``true`` successfully. Cached per process.
     """
-    exe = shutil.which("bwrap")
-    if exe is None:
-        return False
-    # The same namespaces and kernel filesystems as a real sandbox: containers
-    # often allow the namespaces but refuse to mount /proc.
-    mounts = ["--ro-bind", "/", "/", "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
-    trial = [exe, *_isolation_args(), *mounts, "true"]
-    try:
-        return subprocess.run(trial, capture_output=True, timeout=30).returncode == 0
-    except (OSError, subprocess.TimeoutExpired):
-        return False
+    trial = _trial("true")
+    return trial is not None and trial.returncode == 0
+
+
+@functools.cache
+def sandbox_user_namespace() -> bool:
+    """Whether each sandbox gets a user namespace of its own.
+
+    There, ``RLIMIT_NPROC`` set inside counts only the sandbox's own tasks
+    (the kernel keeps one count per user namespace, checked against the
+    limits of every level), so it caps one sandbox, not all of a user's
+    processes; :class:`grader.sandbox.kernel.SandboxedKernelManager` uses it
+    where no ``pids`` cgroup is writable.
+
+    Returns
+    -------
+    bool
+        ``True`` if bubblewrap works here and a trial sandbox reports another
+        user namespace than this process's. Cached per process.
+    """
+    trial = _trial("readlink", "/proc/self/ns/user") if bwrap_available() else None
+    return trial is not None and trial.returncode == 0 and trial.stdout.strip() not in ("", os.readlink("/proc/self/ns/user"))
 
 
 @functools.cache

@@ -19,9 +19,9 @@ from jupyter_client.kernelspec import KernelSpec
 from jupyter_core.utils import run_sync
 from traitlets import DottedObjectName
 
-from grader.sandbox.bwrap import SandboxSpec, wrap_command
+from grader.sandbox.bwrap import SandboxSpec, sandbox_user_namespace, wrap_command
 from grader.sandbox.limits import Process, kill_and_reap, peak_rss_bytes, process, process_tree, processes_with_argument
-from grader.sandbox.process_limit import ProcessLimit, pids_parent
+from grader.sandbox.process_limit import ProcessLimit, namespace_cap_prefix, pids_parent
 
 __all__ = ["SandboxedKernelManager", "peak_memory_bytes", "KERNEL_DIR_NAME"]
 
@@ -65,12 +65,15 @@ class SandboxedKernelManager(KernelManager):
 
     Each start creates a ``pids`` cgroup capping the sandbox at
     ``spec.max_processes`` tasks (:mod:`grader.sandbox.process_limit`), and
-    each shutdown removes it; where the host has no writable ``pids`` cgroup
-    the kernel runs uncapped and a warning says so once.
+    each shutdown removes it. Where the host has no writable ``pids`` cgroup,
+    a user other than root is capped by ``RLIMIT_NPROC`` inside the sandbox's
+    own user namespace (refusals are then not counted); failing both, the
+    kernel runs uncapped and a warning says so once.
     """
 
     process_limit: ProcessLimit | None = None
     launcher: Process | None = None
+    namespace_cap: int | None = None  # RLIMIT_NPROC applied inside the sandbox, when no cgroup caps it
 
     client_class = DottedObjectName("jupyter_client.asynchronous.AsyncKernelClient", config=True)
 
@@ -119,7 +122,10 @@ class SandboxedKernelManager(KernelManager):
         # keeps ipykernel from polling a parent pid it cannot see and from
         # printing its "ipython kernel entry point" note on the grader's stdout.
         spec = dataclasses.replace(self.sandbox_spec, env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env})
-        command = wrap_command(super().format_kernel_cmd(extra_arguments), spec)
+        kernel = super().format_kernel_cmd(extra_arguments)
+        if self.namespace_cap is not None:
+            kernel = [*namespace_cap_prefix(self.namespace_cap), *kernel]
+        command = wrap_command(kernel, spec)
         if self.process_limit is not None:
             command = [*self.process_limit.join_prefix(), *command]
         return command
@@ -130,7 +136,7 @@ class SandboxedKernelManager(KernelManager):
         Returns
         -------
         int
-            0 also when no cap is in force.
+            0 also when no cap is in force or the cap is ``RLIMIT_NPROC``, which counts nothing.
         """
         return self.process_limit.refused() if self.process_limit is not None else 0
 
@@ -147,6 +153,7 @@ class SandboxedKernelManager(KernelManager):
     async def _async_pre_start_kernel(self, **kw):
         (self.sandbox_spec.workdir / KERNEL_DIR_NAME).mkdir(mode=0o700, exist_ok=True)
         self._remove_process_limit()
+        self.namespace_cap = None
         cap = self.sandbox_spec.max_processes
         parent = pids_parent() if cap is not None else None
         if parent is not None:
@@ -154,6 +161,8 @@ class SandboxedKernelManager(KernelManager):
                 self.process_limit = ProcessLimit(cap, parent)
             except OSError as exc:  # e.g. the parent's own cgroup count is exhausted
                 log.warning("kernel starts without a process cap: cannot create its pids cgroup: %s", exc)
+        elif cap is not None and os.geteuid() != 0 and sandbox_user_namespace():
+            self.namespace_cap = cap
         elif cap is not None:
             _warn_without_process_limit()
         return await super()._async_pre_start_kernel(**kw)
@@ -215,7 +224,10 @@ class SandboxedKernelManager(KernelManager):
 
 @functools.cache
 def _warn_without_process_limit() -> None:
-    log.warning("no writable pids cgroup: sandboxes run without a cap on their number of processes")
+    log.warning(
+        "no writable pids cgroup (and, as root or without user namespaces, no RLIMIT_NPROC per sandbox): "
+        "sandboxes run without a cap on their number of processes"
+    )
 
 
 def peak_memory_bytes(km: SandboxedKernelManager) -> int | None:

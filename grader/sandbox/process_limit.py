@@ -10,8 +10,16 @@ so everything it starts is inside from the first instruction.
 
 Both cgroup versions work: v1 (a ``pids`` hierarchy, as in many containers)
 and v2 (where the ``pids`` controller is enabled for this process's cgroup's
-children). Where neither is writable, :func:`pids_parent` is ``None`` and the
-caller runs without the cap and says so.
+children). Where neither is writable, :func:`pids_parent` is ``None``.
+
+A non-root user without a delegated cgroup (a TA's laptop) still gets a cap:
+inside a user namespace of its own, ``RLIMIT_NPROC`` counts only the tasks of
+that namespace, so :func:`namespace_cap_prefix`, run inside the sandbox, caps
+one sandbox. Measured as an unprivileged user with 64 processes already
+running: two sandboxes under ``--nproc=20`` each forked 18 children, while the
+same limit outside a namespace refused the first fork. Refusals are not
+counted there: the student's code sees ``EAGAIN`` but no event is recorded.
+Root is exempt from ``RLIMIT_NPROC``, so root needs the cgroup.
 """
 
 from __future__ import annotations
@@ -23,7 +31,7 @@ import time
 import uuid
 from pathlib import Path
 
-__all__ = ["DEFAULT_MAX_PROCESSES", "ProcessLimit", "pids_parent"]
+__all__ = ["DEFAULT_MAX_PROCESSES", "ProcessLimit", "namespace_cap_prefix", "pids_parent"]
 
 #: Tasks per sandbox. An IPython kernel holds about 10 threads, and libigl's
 #: parallel loops add one per core; 512 leaves room on large machines while a
@@ -31,6 +39,28 @@ __all__ = ["DEFAULT_MAX_PROCESSES", "ProcessLimit", "pids_parent"]
 DEFAULT_MAX_PROCESSES = 512
 
 CGROUP_ROOT = Path("/sys/fs/cgroup")
+
+
+def namespace_cap_prefix(max_processes: int) -> list[str]:
+    """The argv prefix that caps a command's tasks with ``RLIMIT_NPROC``.
+
+    It caps one sandbox only when run inside a user namespace of the sandbox's
+    own, by a user other than root (see the module docstring); outside one it
+    counts every process of the user.
+
+    Parameters
+    ----------
+    max_processes : int
+        Largest number of processes and threads alive at once.
+
+    Returns
+    -------
+    list of str
+        ``["prlimit", "--nproc=<max_processes>", "--"]``; append the command.
+    """
+    if not isinstance(max_processes, int) or isinstance(max_processes, bool) or max_processes <= 0:
+        raise ValueError(f"max_processes must be a positive int, got {max_processes!r}")
+    return ["prlimit", f"--nproc={max_processes}", "--"]
 
 
 def _own_cgroups(proc_cgroup: str) -> dict[str, str]:

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import shutil
+import signal
 import subprocess
 import sys
 import textwrap
@@ -11,7 +14,7 @@ import pytest
 
 from grader.sandbox.bwrap import SandboxSpec
 from grader.sandbox.limits import is_alive
-from grader.sandbox.process_limit import ProcessLimit, _candidates, _own_cgroups, pids_parent
+from grader.sandbox.process_limit import ProcessLimit, _candidates, _own_cgroups, namespace_cap_prefix, pids_parent
 
 V1 = "12:pids:/ci/job\n11:memory:/ci\n1:name=systemd:/\n0::/\n"
 V2 = "0::/user.slice/grader.service\n"
@@ -120,3 +123,85 @@ def test_a_removed_cgroup_keeps_its_command_from_starting():
     out = subprocess.run([*prefix, sys.executable, "-c", "print('started')"], capture_output=True, text=True, timeout=30)
     assert out.returncode != 0 and "started" not in out.stdout
 
+
+
+@pytest.mark.parametrize("bad", [0, -3, 1.5, True, "64"])
+def test_the_namespace_cap_must_be_a_positive_int(bad):
+    with pytest.raises(ValueError, match="max_processes must be a positive int"):
+        namespace_cap_prefix(bad)
+    assert namespace_cap_prefix(64) == ["prlimit", "--nproc=64", "--"]
+
+
+# Root is exempt from RLIMIT_NPROC: as root, run the processes as nobody. The project's
+# interpreter may sit in a folder nobody cannot read, so the forker runs on Debian's python3.
+AS_USER = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "--"] if os.geteuid() == 0 else []
+SYSTEM_PYTHON = "/usr/bin/python3"
+SANDBOX = [shutil.which("bwrap") or "bwrap", "--unshare-all", "--die-with-parent", "--new-session",
+           "--ro-bind", "/", "/", "--proc", "/proc", "--dev", "/dev", "--"]
+
+
+def _unprivileged_sandbox_works() -> bool:
+    if not Path(SYSTEM_PYTHON).exists() or (AS_USER and not shutil.which("setpriv")):
+        return False
+    try:
+        return subprocess.run([*AS_USER, *SANDBOX, "true"], capture_output=True, timeout=30).returncode == 0
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+
+
+def _forked(command: list[str]) -> tuple[int, subprocess.Popen]:
+    proc = subprocess.Popen(command, stdout=subprocess.PIPE, text=True, start_new_session=True)
+    return int(proc.stdout.readline()), proc
+
+
+@pytest.mark.skipif(not _unprivileged_sandbox_works(), reason="no unprivileged bubblewrap sandbox or no /usr/bin/python3 here")
+def test_rlimit_nproc_inside_a_sandbox_caps_that_sandbox_alone_whatever_the_user_runs_elsewhere():
+    busy = [subprocess.Popen([*AS_USER, "sleep", "60"]) for _ in range(40)]
+    started = []
+    try:
+        # Outside a namespace the limit counts all 40 of the user's sleepers: no fork at all.
+        count, plain = _forked([*AS_USER, *namespace_cap_prefix(16), SYSTEM_PYTHON, "-c", FORKER])
+        started.append(plain)
+        assert count == 0
+        # Inside each sandbox only its own tasks count: bwrap's init, the forker and 14 children.
+        counts = []
+        for _ in range(2):
+            count, proc = _forked([*AS_USER, *SANDBOX, *namespace_cap_prefix(16), SYSTEM_PYTHON, "-c", FORKER])
+            started.append(proc)
+            counts.append(count)
+        assert counts == [14, 14]
+    finally:
+        for proc in started:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+        for proc in busy:
+            proc.kill()
+            proc.wait()
+
+
+@pytest.mark.skipif(shutil.which("bwrap") is None, reason="bubblewrap is not installed")
+@pytest.mark.parametrize(
+    "euid, own_namespace, capped",
+    [(1000, True, True), (0, True, False), (1000, False, False)],
+    ids=["user-with-namespace", "root", "user-without-namespace"],
+)
+def test_without_a_cgroup_the_kernel_is_capped_inside_its_namespace_only_where_that_caps_it(
+    tmp_path, monkeypatch, caplog, euid, own_namespace, capped
+):
+    from grader.sandbox import bwrap, kernel
+
+    monkeypatch.setattr(kernel, "pids_parent", lambda: None)
+    monkeypatch.setattr(kernel.os, "geteuid", lambda: euid)
+    monkeypatch.setattr(kernel, "sandbox_user_namespace", lambda: own_namespace)
+    monkeypatch.setattr(bwrap, "bwrap_available", lambda: True)
+    kernel._warn_without_process_limit.cache_clear()
+    km = kernel.SandboxedKernelManager(SandboxSpec(workdir=tmp_path, max_processes=48))
+    command, _ = km.pre_start_kernel()
+    inside = command[command.index("--", command.index(shutil.which("bwrap"))) + 1:]
+    if capped:
+        assert inside[:3] == ["prlimit", "--nproc=48", "--"] and inside[4:6] == ["-m", "ipykernel_launcher"]
+        assert not caplog.records
+    else:
+        assert inside[1:3] == ["-m", "ipykernel_launcher"] and "--nproc=48" not in command
+        assert "without a cap on their number of processes" in caplog.text
+    km.cleanup_resources()
