@@ -5,6 +5,7 @@ from __future__ import annotations
 import gc
 import shutil
 import tempfile
+import time
 from pathlib import Path
 
 import pytest
@@ -37,7 +38,13 @@ def collect_kernel_leftovers():
 
 @pytest.fixture(scope="session")
 def host_cmdlines():
-    """``host_cmdlines() -> list[bytes]``: the raw command line of every process on the host."""
+    """``host_cmdlines() -> list[bytes]``: the raw command line of every process on the host.
+
+    A process that has just been started can show an empty command line:
+    ``Popen`` returns once ``exec`` has passed its point of no return, a moment
+    before the kernel has set up the new program's arguments. Wait for it with
+    :func:`started`.
+    """
 
     def read() -> list[bytes]:
         found = []
@@ -50,3 +57,18 @@ def host_cmdlines():
         return found
 
     return read
+
+
+@pytest.fixture(scope="session")
+def started(host_cmdlines):
+    """``started(cmdline, timeout=10) -> bool``: whether a host process shows ``cmdline`` within ``timeout`` s."""
+
+    def wait(cmdline: bytes, timeout: float = 10.0) -> bool:
+        deadline = time.monotonic() + timeout
+        while cmdline not in host_cmdlines():
+            if time.monotonic() > deadline:
+                return False
+            time.sleep(0.02)
+        return True
+
+    return wait

@@ -60,7 +60,7 @@ def test_command_applies_limits_env_workdir_and_a_new_session(no_bwrap, spec, mo
     ], done.stderr
 
 
-def test_kernel_hits_the_memory_cap_and_shutdown_kills_its_children(no_bwrap, spec, host_cmdlines):
+def test_kernel_hits_the_memory_cap_and_shutdown_kills_its_children(no_bwrap, spec, host_cmdlines, started):
     km = SandboxedKernelManager(spec)
     km.start_kernel()
     kc = km.blocking_client()
@@ -72,7 +72,7 @@ def test_kernel_hits_the_memory_cap_and_shutdown_kills_its_children(no_bwrap, sp
         kc.execute_interactive(
             "import subprocess; subprocess.Popen(['sleep', '987653'], start_new_session=True)", timeout=30
         )
-        assert b"sleep\x00987653\x00" in host_cmdlines()
+        assert started(b"sleep\x00987653\x00")
     finally:
         kc.stop_channels()
         km.shutdown_kernel(now=True)
