@@ -12,7 +12,9 @@ posed by forward kinematics (``starter.posing``). Three rates:
   before the picture;
 - rendered frames per second: ``SkinningWidget.set_pose`` for a sequence of
   poses, i.e. the sliders, LBS, the off-screen render (pyvista through EGL, or
-  the matplotlib fallback) and the PNG bytes the widget sends to the browser.
+  the matplotlib fallback) and the PNG bytes the widget sends to the browser;
+- the same poses exported by ``SkinningWidget.export_animation`` as a GIF and
+  (with PyAV installed) an MP4 at 20 frames/s: seconds and kilobytes of each.
 
 The issue's target is at least 30 LBS updates per second.
 
@@ -21,7 +23,9 @@ Run with ``.venv/bin/python -m benchmarks.bench_lbs``.
 
 from __future__ import annotations
 
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 from threadpoolctl import threadpool_limits
@@ -67,8 +71,10 @@ def main(poses=POSES, frames=FRAMES):
         ``lbs_updates_per_s``, ``lbs_updates_per_s_one_blas_thread``,
         ``pose_updates_per_s``, ``rendered_frames_per_s``, ``render_backend``,
         ``png_kb`` (mean frame size), ``widget_label`` (the rates the widget
-        itself reports over its last changes) and ``target_met`` (LBS updates
-        per second ≥ 30).
+        itself reports over its last changes), ``gif_s``/``gif_kb`` and
+        ``mp4_s``/``mp4_kb`` (the rendered poses exported; ``mp4_skipped``
+        says why instead, without PyAV) and ``target_met`` (LBS updates per
+        second ≥ 30).
     """
     V, F = load_mesh(MESH)
     bones = load_handles(MESH)["bones"]
@@ -102,6 +108,7 @@ def main(poses=POSES, frames=FRAMES):
 
     widget.set_pose(angles[0], shifts[0])  # the first frame builds the off-screen scene
     rendered = _rate(frame, frames)
+    exports = _exports(widget, angles[:frames], shifts[:frames])
     widget.renderer.close()
 
     figures = {
@@ -118,6 +125,7 @@ def main(poses=POSES, frames=FRAMES):
         "picture": f"{widget.renderer.size[0]}x{widget.renderer.size[1]}",
         "png_kb": float(np.mean(sizes)) / 1024,
         "widget_label": widget.label.value,
+        **exports,
         "target_met": bool(lbs >= TARGET),
     }
     print(f"LBS on {MESH}: {len(V)} vertices, {len(F)} faces, {len(bones)} bones; BBW weights in {weights_s:.1f} s")
@@ -126,6 +134,28 @@ def main(poses=POSES, frames=FRAMES):
     print(f"widget frames (LBS + {figures['render_backend']} render + PNG, {figures['picture']}): "
           f"{rendered:.1f} frames/s, {figures['png_kb']:.0f} kB per frame")
     print(f"the widget's label: {figures['widget_label']}")
+    for kind in ("gif", "mp4"):
+        if f"{kind}_kb" in figures:
+            print(f"{frames} frames exported as {kind.upper()}: {figures[f'{kind}_s']:.2f} s, {figures[f'{kind}_kb']:.0f} kB")
+        else:
+            print(f"{kind.upper()} export not measured: {figures[f'{kind}_skipped']}")
+    return figures
+
+
+def _exports(widget, angles, shifts):
+    """Seconds and kilobytes of the pose sequence as a GIF and an MP4 (20 frames/s)."""
+    figures = {}
+    with tempfile.TemporaryDirectory() as folder:
+        for kind in ("gif", "mp4"):
+            path = Path(folder) / f"poses.{kind}"
+            started = time.perf_counter()
+            try:
+                widget.export_animation(path, angles, shifts, fps=20)
+            except ImportError as error:  # PyAV is optional
+                figures[f"{kind}_skipped"] = str(error)
+                continue
+            figures[f"{kind}_s"] = time.perf_counter() - started
+            figures[f"{kind}_kb"] = path.stat().st_size / 1024
     return figures
 
 
