@@ -544,14 +544,31 @@ class SkinningWidget(widgets.VBox):
             self.drag(x, y)
         self._grabbed = None
 
+    def _event_pixels(self, event):
+        """Picture pixel coordinates of a browser mouse event.
+
+        ipyevents' ``dataX``/``dataY`` scale by the image's natural size,
+        which reads 0 while the browser decodes a new frame, so an event
+        during a redraw claims (0, 0). The position within the element's
+        box, scaled by the box's size, does not depend on the frame.
+        """
+        width, height = self.renderer.size
+        box_w, box_h = event.get("boundingRectWidth") or 0, event.get("boundingRectHeight") or 0
+        if box_w > 0 and box_h > 0 and "relativeX" in event:
+            return event["relativeX"] * width / box_w, event["relativeY"] * height / box_h
+        return event.get("dataX"), event.get("dataY")
+
     def _mouse_event(self, event):
         kind = event.get("type")
-        if kind == "mousedown":
-            self.press(event["dataX"], event["dataY"])
+        x, y = self._event_pixels(event)
+        if kind in ("mouseup", "mouseleave"):
+            self.release(x, y)
+        elif x is None or y is None:
+            return
+        elif kind == "mousedown":
+            self.press(x, y)
         elif kind == "mousemove" and self._grabbed is not None:
-            self.drag(event["dataX"], event["dataY"])
-        elif kind in ("mouseup", "mouseleave"):
-            self.release(event.get("dataX"), event.get("dataY"))
+            self.drag(x, y)
 
     def set_pose(self, angles, translation=None):
         """Move the sliders to a pose, then update once.

@@ -223,6 +223,17 @@ def element_picture(locator, path: Path) -> np.ndarray:
     return np.asarray(Image.open(io.BytesIO(locator.screenshot(path=str(path)))).convert("RGB"))
 
 
+def settled_source(page, image, quiet_s: float = 1.0, timeout_s: float = 30.0) -> str:
+    """The picture's ``src`` once it has stopped changing for ``quiet_s`` (a drag redraws several times)."""
+    source, since, deadline = image.get_attribute("src"), time.monotonic(), time.monotonic() + timeout_s
+    while time.monotonic() - since < quiet_s and time.monotonic() < deadline:
+        page.wait_for_timeout(100)
+        now = image.get_attribute("src")
+        if now != source:
+            source, since = now, time.monotonic()
+    return source
+
+
 def drawn_fraction(img: np.ndarray) -> float:
     """Share of pixels that differ clearly from the white background."""
     return float((np.abs(img.astype(int) - 255).max(axis=-1) > 30).mean())
@@ -288,6 +299,7 @@ def test_the_skinning_demo_runs_in_jupyterlab_and_dragging_a_bone_or_a_slider_re
                                timeout=30_000)
     except sync_api.TimeoutError:
         pass  # the assertions below say what was shown instead
+    settled_source(page, image)
     dragged_path = workdir / f"{DEMO}-widget-arm-dragged.png"
     dragged = element_picture(image, dragged_path)
     turned = int(arm.inner_text().strip().replace("\u2212", "-"))  # the readout writes U+2212 for minus
@@ -309,6 +321,7 @@ def test_the_skinning_demo_runs_in_jupyterlab_and_dragging_a_bone_or_a_slider_re
     page.wait_for_function("([el, src]) => el.getAttribute('src') !== src", arg=[image.element_handle(), source],
                            timeout=30_000)
     page.wait_for_function(FINISHED, arg=PANEL, polling=200, timeout=30_000)
+    settled_source(page, image)
     after_path = workdir / f"{DEMO}-widget-after.png"
     after = element_picture(image, after_path)
     moved = workdir / f"{DEMO}-moved.png"

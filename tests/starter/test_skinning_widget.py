@@ -391,6 +391,46 @@ def test_a_drag_ends_where_the_mouse_was_released_even_if_the_last_move_never_ar
     assert np.array_equal(widget.handle_pixels()["tips"][1], now)
 
 
+def browser_event(kind, pixel, box=(640.0, 480.0), decoding=False):
+    """What ipyevents sends for a mouse event at a picture pixel, with the picture shown ``box`` CSS pixels large.
+
+    While the browser decodes a new frame the image's natural size reads 0, and
+    so do ``dataX`` and ``dataY``.
+    """
+    scale = np.array(box) / SIZE
+    relative = np.rint(np.asarray(pixel) * scale)  # the browser rounds to whole CSS pixels
+    data = (0, 0) if decoding else tuple(np.rint(pixel).astype(int))
+    return {"type": kind, "relativeX": float(relative[0]), "relativeY": float(relative[1]),
+            "boundingRectWidth": box[0], "boundingRectHeight": box[1], "dataX": data[0], "dataY": data[1]}
+
+
+@pytest.mark.parametrize("box", [(320.0, 240.0), (640.0, 480.0), (200.0, 150.0)])
+def test_events_during_a_redraw_still_land_where_the_mouse_is(widget, box):
+    # dataX/dataY read (0, 0) while a new frame decodes; the element box does not.
+    widget.set_pose(np.zeros(5))
+    tip = widget.handle_pixels()["tips"][1]
+    joint = widget.renderer.to_pixels(widget._apply(widget.T, [1], widget.joints[[1]]))[0]
+    target = tip + [20.0, -90.0]
+    widget._mouse_event(browser_event("mousedown", tip, box, decoding=True))
+    widget._mouse_event(browser_event("mousemove", tip + [10.0, -45.0], box, decoding=True))
+    widget._mouse_event(browser_event("mouseup", target, box, decoding=True))
+    now = widget.handle_pixels()["tips"][1]
+    # whole degrees on the slider, whole CSS pixels in the event: a degree at most
+    assert abs(_turn(now - joint, target - joint)) <= 1.0
+
+
+def test_an_event_without_any_position_moves_nothing_and_still_ends_a_drag(widget):
+    widget.set_pose(np.zeros(5))
+    tip = widget.handle_pixels()["tips"][1]
+    widget._mouse_event({"type": "mousedown", "dataX": tip[0], "dataY": tip[1]})
+    before = widget.U.copy()
+    widget._mouse_event({"type": "mousemove"})
+    widget._mouse_event({"type": "mouseup"})
+    assert np.array_equal(widget.U, before)
+    widget._mouse_event({"type": "mousemove", "dataX": tip[0] + 40, "dataY": tip[1]})
+    assert np.array_equal(widget.U, before)
+
+
 def test_a_release_without_a_position_keeps_the_last_moves_pose(widget):
     widget.set_pose(np.zeros(5))
     root = widget.handle_pixels()["roots"][0]
