@@ -89,9 +89,13 @@ def process_tree(*roots: int | Process) -> list[Process]:
     children: dict[int, list[int]] = {}
     for child, parent in parents.items():
         children.setdefault(parent, []).append(child)
-    live = [r.pid if isinstance(r, Process) else r for r in roots
-            if (r.pid in parents and starts[r.pid] == r.start_ticks if isinstance(r, Process) else r in parents)]
-    tree = list(dict.fromkeys(live))
+
+    def pid_if_live(root: int | Process) -> int | None:
+        if isinstance(root, Process):
+            return root.pid if starts.get(root.pid) == root.start_ticks else None
+        return root if root in parents else None
+
+    tree = list(dict.fromkeys(p for p in map(pid_if_live, roots) if p is not None))
     seen = set(tree)
     for p in tree:  # the list grows while we walk it: breadth-first
         new = [c for c in children.get(p, []) if c not in seen]
