@@ -141,16 +141,18 @@ def _is_env_name(x) -> bool:
     return isinstance(x, str) and x != "" and "=" not in x
 
 
+# A trial sandbox mounts the same kernel filesystems as a real one: containers
+# often allow the namespaces but refuse to mount /proc.
+_TRIAL_MOUNTS = ("--ro-bind", "/", "/", "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp")
+
+
 def _trial(*command: str) -> subprocess.CompletedProcess | None:
     """Run ``command`` in a trial sandbox with the real namespaces; ``None`` if it cannot start."""
     exe = shutil.which("bwrap")
     if exe is None:
         return None
-    # The same namespaces and kernel filesystems as a real sandbox: containers
-    # often allow the namespaces but refuse to mount /proc.
-    mounts = ["--ro-bind", "/", "/", "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
     try:
-        return subprocess.run([exe, *_isolation_args(), *mounts, *command], capture_output=True, text=True, timeout=30)
+        return subprocess.run([exe, *_isolation_args(), *_TRIAL_MOUNTS, *command], capture_output=True, text=True, timeout=30)
     except (OSError, subprocess.TimeoutExpired):
         return None
 

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from grader.sandbox import bwrap
 from grader.sandbox.bwrap import SandboxSpec
 from grader.sandbox.limits import is_alive
 from grader.sandbox.process_limit import ProcessLimit, _candidates, _own_cgroups, namespace_cap_prefix, pids_parent
@@ -136,8 +137,7 @@ def test_the_namespace_cap_must_be_a_positive_int(bad):
 # interpreter may sit in a folder nobody cannot read, so the forker runs on Debian's python3.
 AS_USER = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", "--"] if os.geteuid() == 0 else []
 SYSTEM_PYTHON = "/usr/bin/python3"
-SANDBOX = [shutil.which("bwrap") or "bwrap", "--unshare-all", "--die-with-parent", "--new-session",
-           "--ro-bind", "/", "/", "--proc", "/proc", "--dev", "/dev", "--"]
+SANDBOX = [shutil.which("bwrap") or "bwrap", *bwrap._isolation_args(), *bwrap._TRIAL_MOUNTS, "--"]
 
 
 def _unprivileged_sandbox_works() -> bool:
@@ -188,7 +188,7 @@ def test_rlimit_nproc_inside_a_sandbox_caps_that_sandbox_alone_whatever_the_user
 def test_without_a_cgroup_the_kernel_is_capped_inside_its_namespace_only_where_that_caps_it(
     tmp_path, monkeypatch, caplog, euid, own_namespace, capped
 ):
-    from grader.sandbox import bwrap, kernel
+    from grader.sandbox import kernel
 
     monkeypatch.setattr(kernel, "pids_parent", lambda: None)
     monkeypatch.setattr(kernel.os, "geteuid", lambda: euid)
