@@ -17,6 +17,7 @@ import os
 import shutil
 import subprocess
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -267,8 +268,8 @@ def _isolation_args() -> list[str]:
     return args
 
 
-def _bwrap_args(spec: SandboxSpec) -> list[str]:
-    """bubblewrap options for ``spec``, mounts in an order where later ones win."""
+def _bwrap_args(spec: SandboxSpec, binds: Sequence[tuple[str, Path]] = ()) -> list[str]:
+    """bubblewrap options for ``spec`` and extra ``(option, path)`` binds, mounts in an order where later ones win."""
     # /tmp first, so that a venv or course folder under /tmp is bound on top of it.
     args = [*_isolation_args(), "--proc", "/proc", "--dev", "/dev", "--size", str(spec.file_bytes), "--tmpfs", "/tmp"]
     mounted = [Path("/usr")]
@@ -296,6 +297,8 @@ def _bwrap_args(spec: SandboxSpec) -> list[str]:
     for path, how in user_binds:
         args += [how, str(path), str(path)]
         mounted.append(path)
+    for how, path in binds:
+        args += [how, str(path), str(path)]
     for path in _hidden_paths(spec):
         if not path.exists() or not any(_is_within(path, m) for m in mounted):
             continue
@@ -320,7 +323,7 @@ _SESSION_LAUNCHER = (
 )
 
 
-def wrap_command(argv: list[str], spec: SandboxSpec) -> list[str]:
+def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, Path]] = ()) -> list[str]:
     """Return the command line that runs ``argv`` inside the sandbox.
 
     Parameters
@@ -329,6 +332,10 @@ def wrap_command(argv: list[str], spec: SandboxSpec) -> list[str]:
         The command to sandbox (non-empty).
     spec : SandboxSpec
         What the command may see and use.
+    binds : sequence of (str, Path)
+        Extra host paths the command needs at the same path, each with
+        ``"--bind"`` (read-write) or ``"--ro-bind"``: the kernel's connection
+        file and sockets. Without bubblewrap they are simply where they are.
 
     Returns
     -------
@@ -340,9 +347,12 @@ def wrap_command(argv: list[str], spec: SandboxSpec) -> list[str]:
     """
     if not argv or not all(isinstance(a, str) for a in argv):
         raise ValueError(f"argv must be a non-empty list of str, got {argv!r}")
+    bad = [b for b in binds if not (isinstance(b, tuple) and len(b) == 2 and b[0] in ("--bind", "--ro-bind"))]
+    if bad:
+        raise ValueError(f"binds must be (\"--bind\" or \"--ro-bind\", path) pairs, got {bad!r}")
     limits = prlimit_prefix(spec.memory_bytes, spec.cpu_seconds, spec.file_bytes)
     if bwrap_available():
-        return [*limits, shutil.which("bwrap"), *_bwrap_args(spec), "--", *argv]
+        return [*limits, shutil.which("bwrap"), *_bwrap_args(spec, binds), "--", *argv]
     _warn_without_bwrap()
     env = [f"{k}={v}" for k, v in sandbox_env(spec).items()]
     launcher = [sys.executable, "-I", "-S", "-c", _SESSION_LAUNCHER, str(spec.workdir)]

@@ -1,18 +1,31 @@
 """A Jupyter kernel manager whose kernel runs inside the grading sandbox.
 
 The kernel talks over ``ipc`` (Unix sockets): TCP cannot cross the sandbox's
-private network namespace. The connection file and the sockets live in a
-hidden folder of the workdir, which the sandbox binds at the same absolute
-path, so the paths in the connection file mean the same thing on both sides.
+private network namespace. Its connection file and sockets live in a runtime
+folder of the grader's own, outside the student's workdir: the connection file
+is bound read-only into the sandbox (the kernel can neither change, move nor
+replace it), the sockets' folder is bound read-write at the same absolute path
+so the kernel can create its sockets, and, where the grader is root, is handed
+to another owner as soon as they exist, so student code cannot swap a socket
+for a link to another one. Nothing of either is in the workdir.
+
+The sandbox's processes are found by what student code cannot forge: the
+launcher's process tree (pid and start time), the sandbox's pid namespace and,
+where there is one, its ``pids`` cgroup. Never by command lines or paths.
 """
 
 from __future__ import annotations
 
+import asyncio
 import dataclasses
 import functools
 import logging
 import os
+import shutil
 import sys
+import tempfile
+import time
+from pathlib import Path
 
 from jupyter_client import BlockingKernelClient, KernelManager
 from jupyter_client.kernelspec import KernelSpec
@@ -20,17 +33,19 @@ from jupyter_core.utils import run_sync
 from traitlets import DottedObjectName
 
 from grader.sandbox.bwrap import SandboxSpec, sandbox_user_namespace, wrap_command
-from grader.sandbox.limits import Process, kill_and_reap, peak_rss_bytes, process, process_tree, processes_with_argument
+from grader.sandbox.limits import Process, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process, process_tree
 from grader.sandbox.process_limit import ProcessLimit, namespace_cap_prefix, pids_parent
 
-__all__ = ["SandboxedKernelManager", "peak_memory_bytes", "KERNEL_DIR_NAME"]
+__all__ = ["SandboxedKernelManager", "peak_memory_bytes"]
 
 log = logging.getLogger(__name__)
 
-KERNEL_DIR_NAME = ".sandbox-kernel"
-
 # sun_path holds 108 bytes including the terminating NUL.
 _MAX_SOCKET_PATH = 107
+# Owner of a sealed sockets folder: not the sandbox's user, so its code cannot write there.
+_SEALED_UID = 65534
+# How long start-up waits for the kernel's sockets before sealing what is there.
+_SOCKETS_TIMEOUT = 60.0
 
 
 class SandboxedKernelManager(KernelManager):
@@ -39,8 +54,12 @@ class SandboxedKernelManager(KernelManager):
     Parameters
     ----------
     spec : SandboxSpec
-        The sandbox; ``spec.workdir`` becomes the kernel's working directory
-        and holds its connection file and sockets (in ``.sandbox-kernel/``).
+        The sandbox; ``spec.workdir`` becomes the kernel's working directory.
+    runtime_root : path-like, optional
+        A folder of the grader's, never bound into any sandbox, in which the
+        manager creates its runtime folder (connection file and sockets);
+        default the system's temporary folder. The runtime folder is deleted
+        when the kernel is shut down for good.
     **kw
         Passed to :class:`jupyter_client.KernelManager`; ``transport``,
         ``ip`` and ``connection_file`` are fixed by the sandbox.
@@ -77,20 +96,29 @@ class SandboxedKernelManager(KernelManager):
 
     client_class = DottedObjectName("jupyter_client.asynchronous.AsyncKernelClient", config=True)
 
-    def __init__(self, spec: SandboxSpec, **kw):
+    pid_namespace: str | None = None  # the sandbox's, e.g. "pid:[4026532771]", once seen
+
+    def __init__(self, spec: SandboxSpec, runtime_root: str | Path | None = None, **kw):
         if not isinstance(spec, SandboxSpec):
             raise ValueError(f"spec must be a SandboxSpec, got {type(spec).__name__}")
         fixed = sorted({"transport", "ip", "connection_file"} & kw.keys())
         if fixed:
             raise ValueError(f"kw must not set {fixed}: the sandbox fixes them")
-        kernel_dir = spec.workdir / KERNEL_DIR_NAME
-        ip = str(kernel_dir / "kernel-ipc")
+        runtime = Path(tempfile.mkdtemp(prefix="kernel-", dir=runtime_root))
+        ip = str(runtime / "sockets" / "k")
         if len(ip) + len("-99999") > _MAX_SOCKET_PATH:
+            shutil.rmtree(runtime)
             raise ValueError(
-                f"workdir is too long for Unix socket paths ({len(ip)} characters in {ip!r}); use a shorter workdir"
+                f"runtime_root is too long for Unix socket paths ({len(ip)} characters in {ip!r}); use a shorter one"
             )
-        super().__init__(transport="ipc", ip=ip, connection_file=str(kernel_dir / "kernel.json"), **kw)
+        super().__init__(transport="ipc", ip=ip, connection_file=str(runtime / "kernel.json"), **kw)
         self.sandbox_spec = spec
+        self.runtime_dir = runtime
+
+    @property
+    def sockets_dir(self) -> Path:
+        """The folder of the kernel's sockets, the only runtime path the sandbox may write."""
+        return self.runtime_dir / "sockets"
 
     @property
     def kernel_spec(self) -> KernelSpec:
@@ -125,7 +153,8 @@ class SandboxedKernelManager(KernelManager):
         kernel = super().format_kernel_cmd(extra_arguments)
         if self.namespace_cap is not None:
             kernel = [*namespace_cap_prefix(self.namespace_cap), *kernel]
-        command = wrap_command(kernel, spec)
+        binds = [("--ro-bind", Path(self.connection_file)), ("--bind", self.sockets_dir)]
+        command = wrap_command(kernel, spec, binds)
         if self.process_limit is not None:
             command = [*self.process_limit.join_prefix(), *command]
         return command
@@ -151,7 +180,10 @@ class SandboxedKernelManager(KernelManager):
         return BlockingKernelClient(**info, connection_file=self.connection_file, parent=self)
 
     async def _async_pre_start_kernel(self, **kw):
-        (self.sandbox_spec.workdir / KERNEL_DIR_NAME).mkdir(mode=0o700, exist_ok=True)
+        # A fresh sockets folder per start: a restart never reuses what the last kernel could write.
+        shutil.rmtree(self.sockets_dir, ignore_errors=True)
+        self.sockets_dir.mkdir(mode=0o700)
+        self.pid_namespace = None
         self._remove_process_limit()
         self.namespace_cap = None
         cap = self.sandbox_spec.max_processes
@@ -177,12 +209,55 @@ class SandboxedKernelManager(KernelManager):
 
     _launch_kernel = run_sync(_async_launch_kernel)
 
-    def _sandbox_processes(self):
-        # Every process carrying the connection file in its argv is this
-        # sandbox's launcher, bwrap or kernel: that also finds a sandbox whose
-        # launcher died during setup, leaving bwrap's init orphaned.
-        roots = processes_with_argument(os.path.realpath(self.connection_file))
-        return process_tree(*([self.launcher] if self.launcher is not None else []), *roots)
+    async def _async_post_start_kernel(self, **kw) -> None:
+        await super()._async_post_start_kernel(**kw)
+        await self._seal_sockets()
+
+    post_start_kernel = run_sync(_async_post_start_kernel)
+
+    async def _seal_sockets(self) -> None:
+        """Once the kernel has created its sockets, take their folder away from the sandbox's user.
+
+        Only root can: elsewhere the sandbox's user owns the folder and could
+        take it back. Also notes the sandbox's pid namespace on the way.
+        """
+        ports = [self.shell_port, self.iopub_port, self.stdin_port, self.control_port, self.hb_port]
+        sockets = [Path(f"{self.ip}-{port}") for port in ports]
+        deadline = time.monotonic() + _SOCKETS_TIMEOUT
+        while time.monotonic() < deadline and self._launcher_running():
+            self._note_pid_namespace()
+            if all(p.exists() for p in sockets):
+                break
+            await asyncio.sleep(0.01)
+        self._note_pid_namespace()
+        if os.geteuid() == 0:
+            os.chown(self.sockets_dir, _SEALED_UID, _SEALED_UID)
+            os.chmod(self.sockets_dir, 0o755)
+
+    def _launcher_running(self) -> bool:
+        return self.launcher is not None and bool(process_tree(self.launcher))
+
+    def _note_pid_namespace(self) -> None:
+        """Remember the pid namespace the sandbox's processes are in (bwrap gives it one of its own)."""
+        if self.pid_namespace is not None or self.launcher is None:
+            return
+        own = pid_namespace(os.getpid())
+        for proc in process_tree(self.launcher):
+            ns = pid_namespace(proc.pid)
+            if ns is not None and ns != own:
+                self.pid_namespace = ns
+                return
+
+    def _sandbox_processes(self) -> list[Process]:
+        # The launcher's tree, plus whatever is in the sandbox's pid namespace or
+        # cgroup but was orphaned from that tree (a launcher dying during setup).
+        self._note_pid_namespace()
+        roots = [self.launcher] if self.launcher is not None else []
+        if self.pid_namespace is not None:
+            roots += namespace_members(self.pid_namespace)
+        if self.process_limit is not None:
+            roots += self.process_limit.pids()
+        return process_tree(*roots)
 
     async def _async_kill_kernel(self, restart: bool = False) -> None:
         # The whole tree at once, before the launcher dies and orphans it.
@@ -206,12 +281,7 @@ class SandboxedKernelManager(KernelManager):
     async def _async_cleanup_resources(self, restart: bool = False) -> None:
         await super()._async_cleanup_resources(restart=restart)
         if not restart:
-            # Leave the workdir as the student left it; the folder is empty
-            # once the connection file and sockets are gone.
-            try:
-                (self.sandbox_spec.workdir / KERNEL_DIR_NAME).rmdir()
-            except OSError:
-                pass
+            shutil.rmtree(self.runtime_dir, ignore_errors=True)  # never follows a link planted in sockets/
 
     cleanup_resources = run_sync(_async_cleanup_resources)
 

@@ -16,7 +16,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "processes_with_argument", "peak_rss_bytes", "kill_and_reap", "is_alive"]
+__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "pid_namespace", "namespace_members", "peak_rss_bytes", "kill_and_reap", "is_alive"]
 
 
 class Process(NamedTuple):
@@ -122,29 +122,41 @@ def process(pid: int) -> Process | None:
     return None if fields is None else Process(pid, int(fields[19]))
 
 
-def processes_with_argument(argument: str) -> list[int]:
-    """Return the live processes that have ``argument`` as one of their argv entries.
+def pid_namespace(pid: int) -> str | None:
+    """The pid namespace of a host process, e.g. ``"pid:[4026532771]"``; ``None`` once it has exited.
 
     Parameters
     ----------
-    argument : str
-        An exact argv entry, e.g. a kernel's connection file.
+    pid : int
+        Host pid.
+
+    Returns
+    -------
+    str or None
+        The kernel's name for the namespace, which no process can choose or forge.
+    """
+    try:
+        return os.readlink(f"/proc/{pid}/ns/pid")
+    except OSError:
+        return None
+
+
+def namespace_members(namespace: str) -> list[int]:
+    """Host pids of the live processes in a pid namespace.
+
+    Parameters
+    ----------
+    namespace : str
+        As :func:`pid_namespace` names it.
 
     Returns
     -------
     list of int
         ``(k,)`` host pids, ascending.
     """
-    wanted = os.fsencode(argument)
     found = []
     for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            argv = (entry / "cmdline").read_bytes().split(b"\0")
-        except OSError:  # the process exited while we were scanning
-            continue
-        if wanted in argv:
+        if entry.name.isdigit() and pid_namespace(int(entry.name)) == namespace:
             found.append(int(entry.name))
     return sorted(found)
 

@@ -31,7 +31,7 @@ import time
 import uuid
 from pathlib import Path
 
-__all__ = ["DEFAULT_MAX_PROCESSES", "ProcessLimit", "namespace_cap_prefix", "pids_parent"]
+__all__ = ["DEFAULT_MAX_PROCESSES", "ProcessLimit", "namespace_cap_prefix", "pids_parent", "remove_stale_limits"]
 
 #: Tasks per sandbox. An IPython kernel holds about 10 threads, and libigl's
 #: parallel loops add one per core; 512 leaves room on large machines while a
@@ -39,6 +39,7 @@ __all__ = ["DEFAULT_MAX_PROCESSES", "ProcessLimit", "namespace_cap_prefix", "pid
 DEFAULT_MAX_PROCESSES = 512
 
 CGROUP_ROOT = Path("/sys/fs/cgroup")
+_PREFIX = "deformlab-"
 
 
 def namespace_cap_prefix(max_processes: int) -> list[str]:
@@ -152,13 +153,22 @@ class ProcessLimit:
         if not isinstance(max_processes, int) or isinstance(max_processes, bool) or max_processes <= 0:
             raise ValueError(f"max_processes must be a positive int, got {max_processes!r}")
         self.max_processes = max_processes
-        self.path = Path(parent) / f"deformlab-{os.getpid()}-{uuid.uuid4().hex[:12]}"
+        # The owner's pid in the name lets remove_stale_limits tell a dead grader's cgroups.
+        self.path = Path(parent) / f"{_PREFIX}{os.getpid()}-{uuid.uuid4().hex[:12]}"
         self.path.mkdir()
         try:
             (self.path / "pids.max").write_text(str(max_processes))
         except OSError:
             self.path.rmdir()
             raise
+
+    @classmethod
+    def adopt(cls, path: Path) -> "ProcessLimit":
+        """The existing cgroup at ``path`` (to remove one a dead grader left), without configuring it."""
+        limit = cls.__new__(cls)
+        limit.path = Path(path)
+        limit.max_processes = None
+        return limit
 
     def join_prefix(self) -> list[str]:
         """The argv prefix that moves the command into this cgroup, then execs it.
@@ -223,3 +233,29 @@ class ProcessLimit:
                     return False
                 time.sleep(0.01)
         return True
+
+
+def remove_stale_limits(parent: Path | None = None) -> list[Path]:
+    """Remove the cgroups of graders that died without removing them (killed workers).
+
+    Parameters
+    ----------
+    parent : Path, optional
+        Where the cgroups were created; default :func:`pids_parent`.
+
+    Returns
+    -------
+    list of Path
+        The cgroups removed (their processes killed first).
+    """
+    parent = parent or pids_parent()
+    removed: list[Path] = []
+    if parent is None:
+        return removed
+    for path in parent.glob(f"{_PREFIX}*-*"):
+        owner = path.name[len(_PREFIX):].split("-", 1)[0]
+        if not owner.isdigit() or Path(f"/proc/{owner}").exists():
+            continue
+        if ProcessLimit.adopt(path).remove():
+            removed.append(path)
+    return removed
