@@ -1,13 +1,31 @@
-"""Read what the kernel wrote back, as untrusted data, into plain Python/numpy values.
+"""Read what the kernel wrote back, as hostile data, into plain Python/numpy values.
 
-Nothing from the kernel is unpickled or executed: arrays are loaded with
-``allow_pickle=False``, converted to fresh plain ``numpy.ndarray`` objects, and
-sparse matrices are rebuilt here by trusted scipy from their triplets.
+Every byte of the outputs folder is the student's: the files may be links, FIFOs
+or devices, the folder itself may have been swapped for a link, the JSON may be
+huge or nested without end, and an ``.npz`` member may declare any shape. So:
+
+- files are opened relative to the outputs folder's own descriptor, never
+  following a link (``O_NOFOLLOW``), without blocking (``O_NONBLOCK``), and
+  only regular files within a size cap are read;
+- the JSON is capped in size, parsed with its recursion caught, and checked
+  field by field;
+- ``.npz`` members must be stored (not compressed: nothing to inflate), and
+  each array's header is read first: only numeric dtypes, and no more elements
+  than the reference's output for the same case allows (a few times its size),
+  before a byte is allocated. Sparse matrices' declared shapes get the same
+  bound, then are rebuilt here by trusted scipy from their triplets.
+
+Nothing is unpickled or executed.
 """
 
 from __future__ import annotations
 
+import io
 import json
+import math
+import os
+import stat
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -15,8 +33,19 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-#: Largest output file accepted from one function's collection.
+#: Largest ``.npz`` accepted from one function's collection.
 MAX_OUTPUT_BYTES = 256 * 2**20
+#: Largest ``.json`` record file (case records: errors, timings, output kinds).
+MAX_RECORDS_BYTES = 4 * 2**20
+#: An output may hold this many times the reference's elements (plus ``SLACK_ELEMENTS``)
+#: and still be read: enough to show a wrong shape in feedback, never enough to exhaust memory.
+SIZE_FACTOR = 4
+SLACK_ELEMENTS = 4096
+#: Elements allowed where the reference has no output to compare with.
+DEFAULT_ELEMENTS = 2**22
+#: Nesting of tuples in one output.
+MAX_DEPTH = 4
+MAX_ITEMS = 64
 
 
 class OutputError(ValueError):
@@ -39,55 +68,195 @@ class Collected:
     peak_rss_bytes: int | None
 
 
-def _rebuild(meta: dict, key: str, arrays) -> Any:
+def element_count(value: Any) -> int:
+    """Elements a trusted value holds: array sizes, sparse matrices' dense sizes, summed over tuples.
+
+    Parameters
+    ----------
+    value : any
+        A reference output.
+
+    Returns
+    -------
+    int
+    """
+    if sp.issparse(value):
+        return int(math.prod(value.shape))
+    if isinstance(value, np.ndarray):
+        return int(value.size)
+    if isinstance(value, (tuple, list)):
+        return sum(element_count(v) for v in value)
+    return 1
+
+
+def element_budget(expected: Any) -> int:
+    """How many elements a student's output for a case may hold, from the reference's output.
+
+    Parameters
+    ----------
+    expected : any
+        The reference's output on the same case, or ``None`` if there is none.
+
+    Returns
+    -------
+    int
+    """
+    if expected is None:
+        return DEFAULT_ELEMENTS
+    return SIZE_FACTOR * element_count(expected) + SLACK_ELEMENTS
+
+
+def _read_untrusted(directory_fd: int, name: str, limit: int) -> bytes:
+    """The bytes of ``name`` inside an open folder: a regular file of at most ``limit`` bytes, links never followed."""
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, dir_fd=directory_fd)
+    except FileNotFoundError:
+        raise OutputError("no outputs were written (the kernel stopped before the collection finished)") from None
+    except OSError as exc:  # ELOOP: a link
+        raise OutputError(f"{name} is not a plain file ({exc.strerror})") from None
+    with os.fdopen(fd, "rb") as fh:
+        info = os.fstat(fh.fileno())
+        if not stat.S_ISREG(info.st_mode):
+            raise OutputError(f"{name} is not a plain file")
+        if info.st_size > limit:
+            raise OutputError(f"{name} is larger than {limit // 2**20} MiB")
+        data = fh.read(limit + 1)
+    if len(data) > limit:
+        raise OutputError(f"{name} is larger than {limit // 2**20} MiB")
+    return data
+
+
+def _open_folder(directory: Path) -> int:
+    try:
+        return os.open(directory, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
+    except FileNotFoundError:
+        raise OutputError("no outputs were written (the kernel stopped before the collection finished)") from None
+    except OSError as exc:
+        raise OutputError(f"the outputs folder is not a plain folder ({exc.strerror})") from None
+
+
+class _Arrays:
+    """The members of a stored (uncompressed) ``.npz``, each loaded only after its header passed the checks."""
+
+    def __init__(self, data: bytes):
+        try:
+            self._zip = zipfile.ZipFile(io.BytesIO(data))
+            members = self._zip.infolist()
+        except (zipfile.BadZipFile, ValueError, OSError) as exc:
+            raise OutputError(f"outputs are malformed: {exc}") from None
+        if len(members) > 100_000:
+            raise OutputError("outputs are malformed: too many arrays")
+        self._members = {}
+        for m in members:
+            if m.compress_type != zipfile.ZIP_STORED or m.file_size > len(data):
+                raise OutputError("outputs are malformed: a compressed or oversized array")
+            if m.filename.endswith(".npy"):
+                self._members[m.filename[:-4]] = m
+
+    def header(self, key: str) -> tuple[tuple[int, ...], np.dtype]:
+        """Declared shape and dtype of array ``key``, read from its header alone."""
+        member = self._members.get(key)
+        if member is None:
+            raise OutputError(f"array {key} is missing")
+        with self._zip.open(member) as fh:
+            version = np.lib.format.read_magic(fh)
+            reader = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+            shape, _, dtype = reader(fh, max_header_size=10_000)
+        if dtype.hasobject or dtype.kind not in "biuf":
+            raise OutputError(f"not a numeric array (dtype {dtype})")
+        return tuple(int(s) for s in shape), dtype
+
+    def load(self, key: str, budget: int) -> np.ndarray:
+        """Array ``key`` as a fresh plain ndarray, if its declared size fits ``budget`` elements."""
+        shape, _ = self.header(key)
+        if math.prod(shape) > budget:
+            raise OutputError(f"an array of shape {shape} is far larger than this case's answer")
+        with self._zip.open(self._members[key]) as fh:
+            return np.array(np.lib.format.read_array(fh, allow_pickle=False), copy=True)
+
+
+def _rebuild(meta: Any, key: str, arrays: _Arrays, budget: int, depth: int = 0) -> Any:
+    if not isinstance(meta, dict):
+        raise OutputError("unreadable output record")
     kind = meta.get("kind")
     if kind == "array":
-        return np.array(arrays[key], copy=True)
+        return arrays.load(key, budget)
     if kind == "sparse":
-        shape = tuple(int(s) for s in meta["shape"])
-        return sp.coo_matrix(
-            (np.asarray(arrays[key + ".data"], float), (np.asarray(arrays[key + ".row"]), np.asarray(arrays[key + ".col"]))),
-            shape=shape,
-        ).tocsr()
+        shape = meta.get("shape")
+        if not (isinstance(shape, list) and len(shape) == 2 and all(isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in shape)):
+            raise OutputError("a sparse matrix with an unreadable shape")
+        if math.prod(shape) > budget:
+            raise OutputError(f"a sparse matrix of shape {tuple(shape)} is far larger than this case's answer")
+        data, row, col = (arrays.load(f"{key}.{part}", budget) for part in ("data", "row", "col"))
+        if not (data.ndim == row.ndim == col.ndim == 1 and len(data) == len(row) == len(col)):
+            raise OutputError("a sparse matrix whose triplets do not match")
+        return sp.coo_matrix((data.astype(float), (row.astype(np.int64), col.astype(np.int64))), shape=tuple(shape)).tocsr()
     if kind == "seq":
-        return tuple(_rebuild(m, f"{key}.{i}", arrays) for i, m in enumerate(meta["items"]))
+        items = meta.get("items")
+        if not isinstance(items, list) or len(items) > MAX_ITEMS or depth >= MAX_DEPTH:
+            raise OutputError("a sequence nested too deeply or too long")
+        return tuple(_rebuild(m, f"{key}.{i}", arrays, budget, depth + 1) for i, m in enumerate(items))
     if kind == "invalid":
-        raise OutputError(f"returned a {meta.get('type')}, which is not a numeric array ({meta.get('error')})")
-    raise OutputError(f"unreadable output record {kind!r}")
+        return_type = str(meta.get("type"))[:80]
+        raise OutputError(f"returned a {return_type}, which is not a numeric array ({str(meta.get('error'))[:300]})")
+    raise OutputError(f"unreadable output record {str(kind)[:40]!r}")
 
 
-def read_outputs(function: str, directory: Path, n_cases: int) -> Collected:
+def _parse_records(data: bytes, n_cases: int) -> tuple[list, Any]:
+    try:
+        meta = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise OutputError(f"outputs are malformed: {type(exc).__name__}") from None
+    records = meta.get("records") if isinstance(meta, dict) else None
+    if not isinstance(records, list) or len(records) != n_cases:
+        raise OutputError(f"expected {n_cases} case records, found {len(records) if isinstance(records, list) else 'none'}")
+    if not all(isinstance(r, dict) for r in records):
+        raise OutputError("outputs are malformed: a case record is not a record")
+    return records, meta.get("peak_rss_bytes")
+
+
+def read_outputs(function: str, directory: Path, n_cases: int, expected: list | None = None) -> Collected:
     """Read ``directory/<function>.{json,npz}`` written by the kernel.
+
+    Parameters
+    ----------
+    function : str
+        The contract function collected.
+    directory : Path
+        The outputs folder inside the student's workdir (its parents are the grader's).
+    n_cases : int
+        Number of hidden cases.
+    expected : list, optional
+        ``(n_cases,)`` reference outputs, bounding each case's size; without
+        them every case gets ``DEFAULT_ELEMENTS``.
+
+    Returns
+    -------
+    Collected
 
     Raises
     ------
     OutputError
-        If the files are missing, too large or malformed (as a whole).
+        If the files are missing, not plain files, too large or malformed (as a whole).
     """
-    directory = Path(directory)
-    meta_path, npz_path = directory / f"{function}.json", directory / f"{function}.npz"
-    if not meta_path.is_file() or not npz_path.is_file():
-        raise OutputError("no outputs were written (the kernel stopped before the collection finished)")
-    if npz_path.stat().st_size > MAX_OUTPUT_BYTES:
-        raise OutputError(f"outputs are larger than {MAX_OUTPUT_BYTES // 2**20} MiB")
+    folder = _open_folder(Path(directory))
     try:
-        meta = json.loads(meta_path.read_text())
-        records = meta["records"]
-        arrays = np.load(npz_path, allow_pickle=False)
-    except Exception as exc:  # noqa: BLE001 - any malformed file is the same failure
-        raise OutputError(f"outputs are malformed: {exc}") from None
-    if not isinstance(records, list) or len(records) != n_cases:
-        raise OutputError(f"expected {n_cases} case records, found {len(records) if isinstance(records, list) else 'none'}")
+        records_bytes = _read_untrusted(folder, f"{function}.json", MAX_RECORDS_BYTES)
+        arrays_bytes = _read_untrusted(folder, f"{function}.npz", MAX_OUTPUT_BYTES)
+    finally:
+        os.close(folder)
+    records, peak = _parse_records(records_bytes, n_cases)
+    arrays = _Arrays(arrays_bytes)
     cases = []
-    with arrays:
-        for i, rec in enumerate(records):
-            seconds = rec.get("seconds") if isinstance(rec.get("seconds"), (int, float)) else None
-            if not rec.get("ok"):
-                cases.append(CaseOutput(None, str(rec.get("error", "failed"))[:2000], seconds))
-                continue
-            try:
-                cases.append(CaseOutput(_rebuild(rec["output"], f"c{i}", arrays), None, seconds))
-            except (OutputError, KeyError, ValueError, TypeError) as exc:
-                cases.append(CaseOutput(None, f"output could not be read: {exc}", seconds))
-    peak = meta.get("peak_rss_bytes")
-    return Collected(function, cases, int(peak) if isinstance(peak, (int, float)) else None)
+    for i, rec in enumerate(records):
+        seconds = rec.get("seconds") if isinstance(rec.get("seconds"), (int, float)) and not isinstance(rec.get("seconds"), bool) else None
+        if rec.get("ok") is not True:
+            cases.append(CaseOutput(None, str(rec.get("error", "failed"))[:2000], seconds))
+            continue
+        budget = element_budget(expected[i]) if expected is not None else DEFAULT_ELEMENTS
+        try:
+            cases.append(CaseOutput(_rebuild(rec.get("output"), f"c{i}", arrays, budget), None, seconds))
+        except (OutputError, KeyError, ValueError, TypeError, OSError, zipfile.BadZipFile) as exc:
+            cases.append(CaseOutput(None, f"output could not be read: {exc}", seconds))
+    peak = int(peak) if isinstance(peak, (int, float)) and not isinstance(peak, bool) and math.isfinite(peak) else None
+    return Collected(function, cases, peak)

@@ -10,6 +10,7 @@ replayed, and execution goes on with the next cell.
 from __future__ import annotations
 
 import gc
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,10 +30,11 @@ STARTUP_TIMEOUT = 120
 @dataclass
 class ExecuteOptions:
     timeout: float = 60.0  # per cell
-    wall: float = 900.0  # per notebook
+    wall: float = 900.0  # per notebook, replays after restarts included
     memory_bytes: int = 4 * 2**30
     max_processes: int | None = DEFAULT_MAX_PROCESSES  # processes and threads alive at once
     readonly: list[Path] = field(default_factory=list)  # course data/ and starter/
+    runtime_root: Path | None = None  # the grader's own folder for kernel connection files and sockets
 
 
 @dataclass
@@ -63,6 +65,44 @@ class Execution:
 
 #: Text kept per output of a cell; the rest is dropped (outputs are never trusted, only shown).
 MAX_OUTPUT_CHARS = 20_000
+#: Outputs kept as they arrive, per cell and per notebook (characters of their data); the rest never
+#: reaches the grader's memory or the executed notebook.
+MAX_OUTPUTS_PER_CELL = 100
+MAX_CELL_OUTPUT_CHARS = 1_000_000
+MAX_NOTEBOOK_OUTPUT_CHARS = 8_000_000
+
+
+def _output_chars(out) -> int:
+    if "text" in out:
+        return len(out["text"]) if isinstance(out["text"], str) else 0
+    data = out.get("data") or {}
+    size = sum(len(v) if isinstance(v, str) else len(str(v)) for v in data.values())
+    return size + sum(len(line) for line in out.get("traceback") or [] if isinstance(line, str))
+
+
+class _CappedClient(NotebookClient):
+    """nbclient, keeping at most ``MAX_OUTPUTS_PER_CELL`` outputs and a character budget per cell and notebook."""
+
+    notebook_chars = 0
+
+    def output(self, outs, msg, display_id, cell_index):
+        out = super().output(outs, msg, display_id, cell_index)
+        if out is None or not outs or outs[-1] is not out:
+            return out
+        chars = _output_chars(out)
+        cell_chars = sum(_output_chars(o) for o in outs[:-1])
+        dropped = any(o.get("name") == "grader" for o in outs)
+        if (
+            len(outs) > MAX_OUTPUTS_PER_CELL
+            or cell_chars + chars > MAX_CELL_OUTPUT_CHARS
+            or self.notebook_chars + chars > MAX_NOTEBOOK_OUTPUT_CHARS
+        ):
+            outs.pop()
+            if not dropped:
+                outs.append(nbformat.v4.new_output("stream", name="grader", text="[further output of this cell was dropped by the grader]\n"))
+            return None
+        self.notebook_chars += chars
+        return out
 
 
 def _cap_outputs(cell) -> None:
@@ -121,9 +161,11 @@ def execute(
         max_processes=options.max_processes,
     )
 
+    deadline = start + options.wall
+    notebook_chars = 0
     barren_lives = 0  # kernel lives in a row that finished nothing
     while items:
-        if time.monotonic() - start > options.wall or barren_lives >= 3:
+        if time.monotonic() >= deadline or barren_lives >= 3:
             reason = (
                 f"not run: the notebook's wall-clock limit of {options.wall:.0f} s was reached"
                 if barren_lives < 3
@@ -133,8 +175,8 @@ def execute(
                 (result.cell_failures if kind == "cell" else result.collection_failures)[what] = reason
             result.events.append(reason)
             break
-        km = SandboxedKernelManager(spec)
-        client = NotebookClient(
+        km = SandboxedKernelManager(spec, runtime_root=options.runtime_root)
+        client = _CappedClient(
             nb,
             km=km,
             timeout=options.timeout,
@@ -145,13 +187,16 @@ def execute(
             kernel_name="python3",
             resources={"metadata": {"path": str(workdir)}},
         )
+        client.notebook_chars = notebook_chars
         done_before = len(items)
         try:
             with client.setup_kernel():
-                if not _replay(client, nb, replay, result):
+                if not _replay(client, nb, replay, result, deadline, options.timeout):
                     continue
-                while items and time.monotonic() - start <= options.wall:
+                while items and time.monotonic() < deadline:
                     kind, what = items[0]
+                    # A cell never runs past the notebook's wall limit.
+                    client.timeout = _cell_timeout(options.timeout, deadline)
                     if kind == "cell":
                         client.execute_cell(nb.cells[what], what)
                         _cap_outputs(nb.cells[what])
@@ -174,6 +219,8 @@ def execute(
                     if peak is not None:
                         result.peak_rss_bytes = max(result.peak_rss_bytes or 0, peak)
         except CellTimeoutError:
+            if time.monotonic() >= deadline:
+                continue  # the wall limit's own message is written at the top of the loop
             _fail_first(result, items, f"timed out after {options.timeout:.0f} s; the kernel was killed")
         except DeadKernelError:
             _fail_first(result, items, "the kernel died (crash, os._exit, or the memory limit); it was restarted")
@@ -186,6 +233,7 @@ def execute(
                     f"the sandbox refused {refused} new process(es) or thread(s): "
                     f"at most {options.max_processes} may run at once"
                 )
+            notebook_chars = client.notebook_chars
             try:
                 km.shutdown_kernel(now=True)
             except Exception:  # noqa: BLE001 - it is already gone
@@ -194,21 +242,31 @@ def execute(
             # "AST constructor recursion depth mismatch" when their finalizers run inside it.
             del client, km
             gc.collect()
-        barren_lives = barren_lives + 1 if len(items) == done_before and time.monotonic() - start <= options.wall else 0
+        barren_lives = barren_lives + 1 if len(items) == done_before and time.monotonic() < deadline else 0
     result.seconds = time.monotonic() - start
     return result
 
 
-def _replay(client: NotebookClient, nb, replay: list[int], result: Execution) -> bool:
-    """Re-run the definitions of earlier kernel lives; a cell that now fails is dropped."""
+def _replay(client: NotebookClient, nb, replay: list[int], result: Execution, deadline: float, timeout: float) -> bool:
+    """Re-run the definitions of earlier kernel lives, within the notebook's wall limit; a cell that now fails is dropped."""
     for index in list(replay):
+        if time.monotonic() >= deadline:
+            return False
+        client.timeout = _cell_timeout(timeout, deadline)
         try:
             client.execute_cell(nb.cells[index], index, store_history=False)
         except (CellTimeoutError, DeadKernelError):
+            if time.monotonic() >= deadline:
+                return False  # the wall limit, not the cell: the loop above says so
             replay.remove(index)
             result.events.append(f"cell {index} failed when replayed after a restart; dropped")
             return False
     return True
+
+
+def _cell_timeout(timeout: float, deadline: float) -> int:
+    """The next cell's timeout: the per-cell limit, cut to what is left of the notebook's (whole seconds, as nbclient takes)."""
+    return max(1, math.ceil(min(timeout, deadline - time.monotonic())))
 
 
 def _fail_first(result: Execution, items: list, reason: str) -> None:

@@ -9,8 +9,8 @@ ships a ``UnitSpec`` and receives the dict; recording stays in one place.
 from __future__ import annotations
 
 import hashlib
-import shutil
-import tempfile
+import os
+import stat
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -22,9 +22,12 @@ from grader.harness.fixtures import write_fixtures
 from grader.harness.outputs import OutputError, read_outputs
 from grader.pipeline.execute import ExecuteOptions, execute
 from grader.pipeline.feedback import feedback_html
+from grader.pipeline.guard import GraderLimitExceeded, grader_limits
 from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, verify
+from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
+from grader.sandbox.workspace import workspace
 
 
 @dataclass
@@ -43,6 +46,8 @@ class UnitSpec:
         Path of the instructor (source) notebook.
     seed : int
         Seed of the run's hidden inputs.
+    disk_bytes : int
+        Size of the student's workdir (a tmpfs where the grader may mount one).
     """
 
     student_id: str
@@ -56,13 +61,22 @@ class UnitSpec:
     max_processes: int | None = DEFAULT_MAX_PROCESSES
     readonly: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    disk_bytes: int = DEFAULT_FILE_BYTES
 
 
 def sha256_of(path: str | Path) -> str | None:
+    """SHA-256 of a submitted file, read in chunks and never through a link; None if unreadable."""
+    digest = hashlib.sha256()
     try:
-        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
     except OSError:
         return None
+    with os.fdopen(fd, "rb") as fh:
+        if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+            return None
+        while chunk := fh.read(2**20):
+            digest.update(chunk)
+    return digest.hexdigest()
 
 
 def zero_result(spec: UnitSpec, source: nbformat.NotebookNode, status: str, reason: str, started: float) -> dict:
@@ -119,86 +133,111 @@ def grade_unit(spec: UnitSpec) -> dict:
         return _grader_error(spec, source, exc, started)
 
     cells = graded_cells(source)
-    workdir = Path(tempfile.mkdtemp(prefix="dl-"))
     try:
-        fixtures, outputs = workdir / "fixtures", workdir / "outputs"
-        outputs.mkdir()
-        broken: dict[str, str] = {}  # functions whose hidden cases the reference itself failed on
-        for cell in cells:
-            try:
-                write_fixtures(cell.function, hidden_cases(cell.function, spec.seed)[0], fixtures)
-            except Exception as exc:  # noqa: BLE001 - costs this function, not the notebook
-                broken[cell.function] = f"grader error preparing hidden cases: {type(exc).__name__}: {exc}"
-        nbformat.write(sanitized.nb, workdir / f"{spec.notebook}.ipynb")
-        run = execute(
-            sanitized.nb,
-            sanitized.plan,
-            [c.function for c in cells if c.function not in broken],
-            workdir,
-            fixtures,
-            outputs,
-            ExecuteOptions(
-                timeout=spec.timeout,
-                memory_bytes=spec.memory_bytes,
-                max_processes=spec.max_processes,
-                readonly=[Path(p) for p in spec.readonly],
-            ),
-        )
-        tests, results = [], []
-        for cell in cells:
-            if cell.function in broken:
-                tests.append({"grade_id": cell.grade_id, "function": cell.function, "points": cell.points,
-                              "score": 0.0, "summary": broken[cell.function], "cases": []})
-                continue
-            failure = run.collection_failures.get(cell.function)
-            collected = None
-            if failure is None:
-                try:
-                    n_cases = len(hidden_cases(cell.function, spec.seed)[0])
-                    collected = read_outputs(cell.function, outputs, n_cases)
-                except OutputError as exc:
-                    failure = str(exc)
-            result = verify(cell.function, spec.seed, collected, failure)
-            results.append((cell, result, collected))
-            tests.append(
-                {
-                    "grade_id": cell.grade_id,
-                    "function": cell.function,
-                    "points": cell.points,
-                    "score": round(cell.points * result.fraction, 4),
-                    "summary": result.summary(),
-                    "cases": [
-                        {
-                            "label": c.label,
-                            "passed": c.passed,
-                            "error": c.error,
-                            "seconds": c.seconds,
-                            "failed": [f"{v.name}: {v.detail}" for v in c.verdicts if not v.passed],
-                        }
-                        for c in result.cases
-                    ],
-                }
-            )
-        reasons = [f"cell {i + 1}: {why}" for i, why in sorted(run.cell_failures.items())]
-        status = "grader-error" if broken else "graded" if not run.events else "graded-with-incidents"
-        reasons += list(broken.values())
-        return _result(
-            spec,
-            status,
-            tests,
-            reasons,
-            started,
-            notes=spec.notes + sanitized.notes,
-            events=run.events,
-            peak_rss_bytes=run.peak_rss_bytes,
-            execution_s=round(run.seconds, 3),
-            feedback_html=feedback_html(spec, results, spec.notes + sanitized.notes + reasons + run.events),
-            autograded_notebook=nbformat.writes(sanitized.nb),
-        )
+        with workspace(spec.disk_bytes) as ws:
+            return _grade_in(ws, spec, source, sanitized, cells, started)
     except Exception as exc:  # noqa: BLE001 - the grader's own failure: this row says so, the run goes on
         return _grader_error(spec, source, exc, started)
-    finally:
-        shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _grade_in(ws, spec: UnitSpec, source, sanitized, cells, started: float) -> dict:
+    """Steps 2–5 of one unit inside its workspace ``ws``."""
+    workdir = ws.work
+    fixtures, outputs = workdir / "fixtures", workdir / "outputs"
+    outputs.mkdir()
+    broken: dict[str, str] = {}  # functions whose hidden cases the reference itself failed on
+    for cell in cells:
+        try:
+            write_fixtures(cell.function, hidden_cases(cell.function, spec.seed)[0], fixtures)
+        except Exception as exc:  # noqa: BLE001 - costs this function, not the notebook
+            broken[cell.function] = f"grader error preparing hidden cases: {type(exc).__name__}: {exc}"
+    nbformat.write(sanitized.nb, workdir / f"{spec.notebook}.ipynb")
+    run = execute(
+        sanitized.nb,
+        sanitized.plan,
+        [c.function for c in cells if c.function not in broken],
+        workdir,
+        fixtures,
+        outputs,
+        ExecuteOptions(
+            timeout=spec.timeout,
+            memory_bytes=spec.memory_bytes,
+            max_processes=spec.max_processes,
+            readonly=[Path(p) for p in spec.readonly],
+            runtime_root=ws.kernels,
+        ),
+    )
+    tests, results = [], []
+    for cell in cells:
+        if cell.function in broken:
+            tests.append({"grade_id": cell.grade_id, "function": cell.function, "points": cell.points,
+                          "score": 0.0, "summary": broken[cell.function], "cases": []})
+            continue
+        result, collected = _verified(cell.function, spec.seed, outputs, run.collection_failures.get(cell.function))
+        results.append((cell, result, collected))
+        tests.append(
+            {
+                "grade_id": cell.grade_id,
+                "function": cell.function,
+                "points": cell.points,
+                "score": round(cell.points * result.fraction, 4),
+                "summary": result.summary(),
+                "cases": [
+                    {
+                        "label": c.label,
+                        "passed": c.passed,
+                        "error": c.error,
+                        "seconds": c.seconds,
+                        "failed": [f"{v.name}: {v.detail}" for v in c.verdicts if not v.passed],
+                    }
+                    for c in result.cases
+                ],
+            }
+        )
+    reasons = [f"cell {i + 1}: {why}" for i, why in sorted(run.cell_failures.items())]
+    status = "grader-error" if broken else "graded" if not run.events else "graded-with-incidents"
+    reasons += list(broken.values())
+    messages = spec.notes + sanitized.notes + reasons + run.events
+    try:
+        with grader_limits():
+            feedback = feedback_html(spec, results, messages)
+    except (GraderLimitExceeded, MemoryError):
+        feedback = feedback_html(spec, [], [*messages, "Your outputs were too large or slow to draw; the scores above stand."])
+    return _result(
+        spec,
+        status,
+        tests,
+        reasons,
+        started,
+        notes=spec.notes + sanitized.notes,
+        events=run.events,
+        peak_rss_bytes=run.peak_rss_bytes,
+        execution_s=round(run.seconds, 3),
+        feedback_html=feedback,
+        autograded_notebook=nbformat.writes(sanitized.nb),
+    )
+
+
+def _verified(function: str, seed: int, outputs: Path, failure: str | None):
+    """Read one function's outputs and judge them, under the grader's own limits.
+
+    Returns
+    -------
+    (FunctionResult, Collected or None)
+    """
+    collected = None
+    try:
+        with grader_limits():
+            if failure is None:
+                cases, expected = hidden_cases(function, seed)
+                try:
+                    collected = read_outputs(function, outputs, len(cases), expected)
+                except OutputError as exc:
+                    failure = str(exc)
+            return verify(function, seed, collected, failure), collected
+    except (GraderLimitExceeded, MemoryError) as exc:
+        why = "took too long" if isinstance(exc, GraderLimitExceeded) else "needed too much memory"
+        return verify(function, seed, None, f"checking these outputs {why} (the grader's own limits); they score 0"), None
 
 
 def _grader_error(spec: UnitSpec, source: nbformat.NotebookNode, exc: BaseException, started: float) -> dict:

@@ -1,0 +1,81 @@
+"""Limits on the grader's own work with one unit's outputs (verification, feedback pictures).
+
+The student decides how much data the grader handles: the outputs are bounded
+when read (:mod:`grader.harness.outputs`), and this is the second line. Inside
+``grader_limits`` the process may grow its address space by at most
+``memory_bytes`` (``RLIMIT_AS``, soft limit, restored on exit) and run for at
+most ``seconds`` (``SIGALRM``); past either, the work raises
+:class:`GraderLimitExceeded` or ``MemoryError`` and costs only that unit's
+function. Both need the main thread of a process that grades one unit at a
+time (a pool worker): elsewhere the block runs without them.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import resource
+import signal
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+
+__all__ = ["GraderLimitExceeded", "grader_limits", "DEFAULT_GRADER_MEMORY_BYTES", "DEFAULT_GRADER_SECONDS"]
+
+#: Address space the grader may add while verifying one function or drawing one unit's feedback.
+DEFAULT_GRADER_MEMORY_BYTES = 2 * 2**30
+DEFAULT_GRADER_SECONDS = 120.0
+
+
+class GraderLimitExceeded(Exception):
+    """The grader's own work on a student's outputs ran past its time limit."""
+
+
+def _address_space_bytes() -> int | None:
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmSize:"):
+                return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def _on_alarm(signum, frame):
+    raise GraderLimitExceeded("the grader's work on these outputs took too long")
+
+
+@contextlib.contextmanager
+def grader_limits(memory_bytes: int = DEFAULT_GRADER_MEMORY_BYTES, seconds: float = DEFAULT_GRADER_SECONDS) -> Iterator[bool]:
+    """Run a block under a memory and a time cap of its own.
+
+    Parameters
+    ----------
+    memory_bytes : int
+        Address space the block may add to the process's current one.
+    seconds : float
+        Wall-clock time the block may take.
+
+    Yields
+    ------
+    bool
+        Whether the caps are in force (only in the main thread).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield False
+        return
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    now = _address_space_bytes()
+    cap = None if now is None else now + int(memory_bytes)
+    if cap is not None and hard != resource.RLIM_INFINITY:
+        cap = min(cap, hard)
+    if cap is not None and (soft == resource.RLIM_INFINITY or cap < soft):
+        resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
+    previous = signal.signal(signal.SIGALRM, _on_alarm)
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001) if math.isfinite(seconds) else 0)
+    try:
+        yield True
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
