@@ -120,7 +120,7 @@ def main(argv: list[str] | None = None) -> int:
         return args.run(args)
     except KeyboardInterrupt:
         return 130
-    except (ValueError, FileNotFoundError) as exc:
+    except (ValueError, FileNotFoundError, RuntimeError) as exc:  # RuntimeError: GradingInProgress
         print(f"deformlab {args.command}: error: {exc}", file=sys.stderr)
         return 2
 

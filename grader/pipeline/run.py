@@ -7,6 +7,7 @@ pool, and records each result as it arrives (``grader.pipeline.record``).
 
 from __future__ import annotations
 
+import fcntl
 import json
 import multiprocessing
 import os
@@ -23,8 +24,10 @@ import nbformat
 from grader.contract import ASSIGNMENT
 from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
+from grader.pipeline.sanitize import read_submission_bytes
 from grader.pipeline.unit import UnitSpec, grade_unit, sha256_of, zero_result
-from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
+from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES, remove_stale_limits
+from grader.sandbox.workspace import remove_stale_workspaces
 
 
 @dataclass
@@ -47,17 +50,23 @@ def _worker_init() -> None:
 
 
 def find_submission(folder: Path, notebook: str) -> tuple[Path | None, list[str]]:
-    """The student's file for ``notebook``, also when renamed (matched by the notebook's own metadata)."""
+    """The student's file for ``notebook``, also when renamed (matched by the notebook's own metadata).
+
+    Every candidate is the student's: read without following links, within the
+    notebook size cap, and whatever fails to parse (deep nesting included) is
+    passed over; it never raises for a file's content.
+    """
     exact = folder / f"{notebook}.ipynb"
-    if exact.is_file():
+    if exact.is_file() or exact.is_symlink():
         return exact, []
-    if folder.is_dir():
+    if folder.is_dir() and not folder.is_symlink():
         for candidate in sorted(folder.glob("*.ipynb")):
             try:
-                meta = json.loads(candidate.read_text(encoding="utf-8")).get("metadata", {})
-            except (OSError, ValueError, AttributeError):
+                meta = json.loads(read_submission_bytes(candidate)).get("metadata", {})
+                named = (meta.get("deformlab") or {}).get("notebook") if isinstance(meta, dict) else None
+            except Exception:  # noqa: BLE001 - RecursionError, MemoryError, anything: not this notebook
                 continue
-            if isinstance(meta, dict) and (meta.get("deformlab") or {}).get("notebook") == notebook:
+            if named == notebook:
                 return candidate, [f"graded {candidate.name} as {notebook}.ipynb (renamed file)"]
     return None, []
 
@@ -95,7 +104,10 @@ def _known_students(db_url: str) -> list[str]:
 
 
 def plan_units(submitted: Path, sources: list[Path], seed: int, options: GradeOptions, paths: CoursePaths, roster: list[str]) -> list[UnitSpec]:
-    """One ``UnitSpec`` per student × notebook: students from the folder and from the gradebook's roster."""
+    """One ``UnitSpec`` per student × notebook: students from the folder and from the gradebook's roster.
+
+    A student folder that is a link is not followed (its student gets a row saying so).
+    """
     folders = {p.name: p for p in sorted(Path(submitted).iterdir()) if p.is_dir() and not p.name.startswith(".")}
     units = []
     for sid in sorted(set(folders) | set(roster)):
@@ -103,11 +115,16 @@ def plan_units(submitted: Path, sources: list[Path], seed: int, options: GradeOp
         for source in sources:
             notebook = source.stem
             notes: list[str] = []
+            path = None
             if folder is None:
-                path = None
                 notes.append("no submission folder for this student")
+            elif folder.is_symlink():
+                notes.append("the submission folder is a link, which is not followed")
             else:
-                path, notes = find_submission(folder / options.assignment, notebook)
+                try:
+                    path, notes = find_submission(folder / options.assignment, notebook)
+                except OSError as exc:  # an unreadable folder costs its own student only
+                    notes.append(f"cannot read the submission folder: {exc.strerror}")
             units.append(
                 UnitSpec(
                     student_id=sid,
@@ -124,6 +141,21 @@ def plan_units(submitted: Path, sources: list[Path], seed: int, options: GradeOp
                 )
             )
     return units
+
+
+class GradingInProgress(RuntimeError):
+    """Another grading run is writing into the same output folder."""
+
+
+def _lock_out(out: Path):
+    """Hold ``OUT/.grading.lock`` for the run: two runs into one OUT would write its files twice."""
+    handle = open(out / ".grading.lock", "w")  # noqa: SIM115 - held until grade_class returns
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        handle.close()
+        raise GradingInProgress(f"another `deformlab grade` is writing into {out}; wait for it or choose another --out") from None
+    return handle
 
 
 def _run_seed(out: Path, requested: int | None) -> int:
@@ -151,11 +183,12 @@ def _reusable(out: Path, unit: UnitSpec) -> dict | None:
     return None
 
 
-def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: CoursePaths | None = None) -> list[dict]:
+def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: CoursePaths | None = None, grade=grade_unit) -> list[dict]:
     """Grade every student × notebook under ``submitted``; write ``out``.
 
     ``paths`` selects the course (its source notebooks, data/ and starter/);
-    default: this checkout.
+    default: this checkout. ``grade`` is the work unit (``grade_unit``; tests
+    pass a picklable stand-in to make a worker die).
 
     Returns
     -------
@@ -166,11 +199,21 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
     ------
     FileNotFoundError
         If ``submitted`` is not a folder.
+    GradingInProgress
+        If another run is writing into ``out``.
     """
     submitted, out = Path(submitted), Path(out)
     if not submitted.is_dir():
         raise FileNotFoundError(f"SUBMITTED must be a folder of student folders: {submitted} is not a folder")
     out.mkdir(parents=True, exist_ok=True)
+    with _lock_out(out):
+        return _grade_class(submitted, out, options, paths, grade)
+
+
+def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: CoursePaths | None, grade) -> list[dict]:
+    # What graders killed mid-unit left behind: work folders (hidden inputs) and cgroups.
+    remove_stale_workspaces()
+    remove_stale_limits()
     paths = paths or course_paths()
     db_url = options.db_url or paths.gradebook_url
     sources = ensure_sources(paths, options.assignment)
@@ -201,37 +244,71 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
         for r in results:
             record.record_gradebook(gb, r)
             record.append_log(out, r)
+
+        def finish(result: dict) -> None:
+            _record(out, autograded, gb, result)
+            results.append(result)
+            bar.update(1)
+
         while todo:
-            broken = False
-            # spawn, not fork: a forked child inherits jupyter's event-loop thread as a dead handle and hangs.
-            with ProcessPoolExecutor(max_workers=workers, initializer=_worker_init, mp_context=multiprocessing.get_context("spawn")) as pool:
-                futures = {pool.submit(grade_unit, u): u for u in todo}
-                for future in as_completed(futures):
-                    unit = futures[future]
-                    try:
-                        result = future.result()
-                    except BrokenProcessPool:
-                        broken = True
-                        continue
-                    except Exception as exc:  # noqa: BLE001 - whatever one unit raised, the others are graded
-                        result = _grader_error(unit, f"grader error: {type(exc).__name__}: {exc}")
-                    todo.remove(unit)
-                    _record(out, autograded, gb, result)
-                    results.append(result)
-                    bar.update(1)
-            if broken and todo:
-                # A worker died (not a kernel: those are handled inside the unit). Retry the rest once more
-                # one at a time; the unit that killed the pool is recorded as a grader error.
-                culprit = todo.pop(0)
-                result = _grader_error(culprit, "a grading worker process died while grading this notebook")
-                _record(out, autograded, gb, result)
-                results.append(result)
-                bar.update(1)
-                workers = 1
+            suspects = _grade_in_pool(todo, workers, grade, finish)
+            # A grading worker died (not a kernel: those are handled inside the unit). Only a unit the
+            # pool had handed out can have killed it: grade each of those alone, so that a culprit
+            # breaks only its own pool and its neighbours keep their grades.
+            for unit in suspects:
+                todo.remove(unit)
+                finish(_grade_alone(unit, grade))
     bar.close()
     record.write_grades_csv(out, results)
     _print_summary(results, out)
     return results
+
+
+def _pool(workers: int) -> ProcessPoolExecutor:
+    # spawn, not fork: a forked child inherits jupyter's event-loop thread as a dead handle and hangs.
+    return ProcessPoolExecutor(max_workers=workers, initializer=_worker_init, mp_context=multiprocessing.get_context("spawn"))
+
+
+def _grade_in_pool(todo: list[UnitSpec], workers: int, grade, finish) -> list[UnitSpec]:
+    """Grade ``todo`` in a pool, calling ``finish`` on each result and removing its unit from ``todo``.
+
+    Returns
+    -------
+    list of UnitSpec
+        Empty if the pool survived; else the units it had handed out and not finished when a
+        worker died (the pool hands out units in order, at most ``workers + 1`` ahead).
+    """
+    submitted = list(todo)
+    done = 0
+    with _pool(workers) as pool:
+        futures = {pool.submit(grade, u): u for u in submitted}
+        broken = False
+        for future in as_completed(futures):
+            unit = futures[future]
+            try:
+                result = future.result()
+            except BrokenProcessPool:
+                broken = True
+                continue
+            except Exception as exc:  # noqa: BLE001 - whatever one unit raised, the others are graded
+                result = _grader_error(unit, f"grader error: {type(exc).__name__}: {exc}")
+            todo.remove(unit)
+            done += 1
+            finish(result)
+    if not broken:
+        return []
+    return [u for u in submitted[: done + workers + 1] if u in todo]
+
+
+def _grade_alone(unit: UnitSpec, grade) -> dict:
+    """Grade one unit in a pool of its own; if that pool breaks too, the unit is the culprit."""
+    with _pool(1) as pool:
+        try:
+            return pool.submit(grade, unit).result()
+        except BrokenProcessPool:
+            return _grader_error(unit, "the grading process died while checking this notebook's outputs; it scores 0 and your TA has been told")
+        except Exception as exc:  # noqa: BLE001
+            return _grader_error(unit, f"grader error: {type(exc).__name__}: {exc}")
 
 
 def _grader_error(unit: UnitSpec, reason: str) -> dict:

@@ -2,17 +2,23 @@
 
 Tests and provided cells are read-only: whatever a student did to them (edit,
 delete, duplicate) they are restored from the source, as nbgrader's checksums
-and ``add_missing_cells`` would. Outputs are dropped (they are never trusted and
-may be huge), duplicate cell ids are repaired, and a plan of which cells to run
-when grading is made.
+and ``add_missing_cells`` would. Every cell is rebuilt from the student's text
+alone: its metadata comes from the source notebook's cell of the same grade id
+(points, grade ids and locks cannot be forged; a cell the source does not know
+gets none), outputs and attachments are dropped (never trusted, maybe huge),
+text that cannot be encoded is replaced, duplicate cell ids are repaired, and
+a plan of which cells to run when grading is made.
 """
 
 from __future__ import annotations
 
 import ast
 import copy
+import errno
 import json
+import os
 import re
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -47,15 +53,46 @@ class Sanitized:
     notes: list[str] = field(default_factory=list)
 
 
+def _nbgrader_meta(cell) -> dict:
+    """A cell's ``nbgrader`` metadata, ``{}`` when a student's file has anything but a dict there."""
+    meta = cell.get("metadata")
+    meta = meta.get("nbgrader") if isinstance(meta, dict) else None
+    return meta if isinstance(meta, dict) else {}
+
+
 def _grade_id(cell) -> str | None:
-    meta = cell.get("metadata", {}).get("nbgrader") or {}
-    gid = meta.get("grade_id")
+    gid = _nbgrader_meta(cell).get("grade_id")
     return gid if isinstance(gid, str) else None
 
 
 def _is_locked(cell) -> bool:
-    meta = cell.get("metadata", {}).get("nbgrader") or {}
+    meta = _nbgrader_meta(cell)
     return bool(meta.get("locked")) and not meta.get("solution")
+
+
+def read_submission_bytes(path: Path) -> bytes:
+    """The bytes of a submitted file: a regular file within the size cap, never read through a link.
+
+    Raises
+    ------
+    SubmissionError
+        If the file is missing, a link, not a regular file, or too large.
+    """
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
+    except OSError as exc:
+        what = "the submission is a link, which is not graded" if exc.errno == errno.ELOOP else f"cannot read the submission: {exc.strerror}"
+        raise SubmissionError(what) from None
+    with os.fdopen(fd, "rb") as fh:
+        info = os.fstat(fh.fileno())
+        if not stat.S_ISREG(info.st_mode):
+            raise SubmissionError("the submission is not a regular file")
+        if info.st_size > MAX_NOTEBOOK_BYTES:
+            raise SubmissionError(f"the notebook is {info.st_size / 2**20:.0f} MiB, over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
+        data = fh.read(MAX_NOTEBOOK_BYTES + 1)
+    if len(data) > MAX_NOTEBOOK_BYTES:
+        raise SubmissionError(f"the notebook is over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
+    return data
 
 
 def read_submission(path: Path) -> nbformat.NotebookNode:
@@ -64,19 +101,15 @@ def read_submission(path: Path) -> nbformat.NotebookNode:
     Raises
     ------
     SubmissionError
-        If the file is unreadable, too large, or not a notebook.
+        If the file is unreadable, too large, nested too deeply, or not a notebook.
     """
-    path = Path(path)
+    data = read_submission_bytes(Path(path))
     try:
-        size = path.stat().st_size
-    except OSError as exc:
-        raise SubmissionError(f"cannot read the submission: {exc.strerror}") from None
-    if size > MAX_NOTEBOOK_BYTES:
-        raise SubmissionError(f"the notebook is {size / 2**20:.0f} MiB, over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
-    try:
-        raw = json.loads(path.read_bytes().decode("utf-8"))
+        raw = json.loads(data.decode("utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise SubmissionError(f"not a Jupyter notebook (not valid JSON: {exc})") from None
+    except RecursionError:
+        raise SubmissionError("not a Jupyter notebook (its JSON is nested too deeply)") from None
     if not isinstance(raw, dict) or not isinstance(raw.get("cells"), list):
         raise SubmissionError("not a Jupyter notebook (no list of cells)")
     try:
@@ -158,8 +191,7 @@ def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> S
                 notes.append(f"removed a duplicate of the read-only cell {gid}")
                 continue
             # A copied solution cell keeps its code but is no longer a graded cell.
-            cell = copy.deepcopy(cell)
-            del cell.metadata["nbgrader"]
+            cell = nbformat.from_dict({"cell_type": cell.cell_type, "source": cell.source, "metadata": {}})
             gid = None
         if gid:
             seen.add(gid)
@@ -168,7 +200,7 @@ def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> S
             if cell.source != original.source or cell.cell_type != original.cell_type:
                 notes.append(f"restored the edited read-only cell {gid}")
             cell = copy.deepcopy(original)
-        cells.append(copy.deepcopy(cell))
+        cells.append(cell)  # rebuilt below; the student's own metadata is never copied
 
     # Put back deleted read-only cells after the nearest earlier cell that is still there.
     position = {_grade_id(c): i for i, c in enumerate(cells) if _grade_id(c)}
@@ -180,17 +212,34 @@ def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> S
             position = {_grade_id(c): i for i, c in enumerate(cells) if _grade_id(c)}
 
     nb = nbformat.v4.new_notebook(metadata=copy.deepcopy(source.metadata))
+    by_grade_id = {g: c for g, c in zip(source_ids, source.cells) if g}
     used_ids: set[str] = set()
     for i, cell in enumerate(cells):
-        if cell.cell_type == "code":
-            cell.outputs = []
-            cell.execution_count = None
         cid = cell.get("id")
-        if not isinstance(cid, str) or cid in used_ids or not cid:
+        if not isinstance(cid, str) or cid in used_ids or not _CELL_ID.fullmatch(cid):
             cid = f"cell-{i:04d}"
             while cid in used_ids:
                 cid += "x"
-        cell["id"] = cid
         used_ids.add(cid)
-        nb.cells.append(cell)
+        nb.cells.append(_rebuilt(cell, by_grade_id.get(_grade_id(cell)), cid))
     return Sanitized(nb=nb, plan=grading_plan(nb), notes=notes)
+
+
+# nbformat's own rule for cell ids.
+_CELL_ID = re.compile(r"[a-zA-Z0-9-_]{1,64}")
+_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def _rebuilt(cell, original, cid: str) -> nbformat.NotebookNode:
+    """A fresh cell with the student's text only: type and metadata from the source's cell of the same grade id."""
+    text = _SURROGATE.sub("\ufffd", cell.source)  # a lone surrogate cannot be written as UTF-8
+    kind = original.cell_type if original is not None else cell.cell_type
+    metadata = copy.deepcopy(original.metadata) if original is not None else {}
+    if kind == "code":
+        new = nbformat.v4.new_code_cell(text, metadata=metadata)
+    elif kind == "markdown":
+        new = nbformat.v4.new_markdown_cell(text, metadata=metadata)
+    else:
+        new = nbformat.v4.new_raw_cell(text, metadata=metadata)
+    new["id"] = cid
+    return new
