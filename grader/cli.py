@@ -47,6 +47,8 @@ def _cmd_grade(args) -> int:
         db_url=args.db,
         seed=args.seed,
         assignment=args.assignment,
+        wall=args.wall,
+        disk_bytes=args.disk * 2**20,
     )
     grade_class(Path(args.submitted), Path(args.out), options)
     return 0
@@ -90,6 +92,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--workers", type=int, default=None, help="parallel notebooks (default: number of cores)")
     p.add_argument("--timeout", type=float, default=60.0, help="seconds per cell before the kernel is killed")
     p.add_argument("--memory", type=float, default=4.0, help="GiB of address space per kernel")
+    p.add_argument("--wall", type=float, default=900.0, help="seconds a whole notebook may run, replays after restarts included")
+    p.add_argument(
+        "--disk", type=_positive_int, default=1024, help="MiB each student's working folder may hold (a tmpfs, where the grader runs as root)"
+    )
     p.add_argument(
         "--max-processes",
         type=_positive_int,

@@ -38,13 +38,20 @@ notebook into one student's submission and what grading it must give:
 ``NEEDS_PROCESS_CAP`` (optional)
     True if the entry is only safe where the sandbox can cap its number of
     processes (a pids cgroup); the corpus tests leave it out elsewhere.
+``CHECK`` (optional)
+    ``(result, autograded, params) -> list of str``: entry-specific problems
+    with the unit's result dict and its executed notebook's JSON text
+    (``None`` if none was written); empty when the expectation held.
 ``WEAK_CHECK`` (optional)
     Why the grader's checks do not catch this entry yet (which check, what
     it misses); its test is then an expected failure until the check is fixed.
 
 Sources, paths and the listener's port are filled in per run: ``@@REPO@@``
 (the checkout), ``@@PORT@@`` and ``@@TOKEN@@`` (unique per run, used in
-marker file names and command lines) are replaced in every string above.
+marker file names and command lines), ``@@DECOY@@`` (a host folder the test
+creates, holding ``secret.txt`` and ``victim-arg``, the latter on the command
+line of a decoy process the test starts; both must be untouched and the secret
+never shown) are replaced in every string above.
 """
 
 from __future__ import annotations
@@ -102,6 +109,7 @@ class CorpusEntry:
     event: str | None = None
     needs_process_cap: bool = False
     weak_check: str | None = None
+    check: Callable[[dict, str | None, dict], list[str]] | None = None
 
     @staticmethod
     def fill(text: str, params: dict[str, str]) -> str:
@@ -149,6 +157,7 @@ def load_entry(path: str | Path) -> CorpusEntry:
         event=getattr(module, "EVENT", None),
         needs_process_cap=bool(getattr(module, "NEEDS_PROCESS_CAP", False)),
         weak_check=getattr(module, "WEAK_CHECK", None),
+        check=getattr(module, "CHECK", None),
     )
     if entry.notebook not in STAGES:
         raise ValueError(f"corpus entry {path}: NOTEBOOK {entry.notebook!r} is not one of {sorted(STAGES)}")

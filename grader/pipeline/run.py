@@ -26,6 +26,7 @@ from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
 from grader.pipeline.sanitize import read_submission_bytes
 from grader.pipeline.unit import UnitSpec, grade_unit, sha256_of, zero_result
+from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES, remove_stale_limits
 from grader.sandbox.workspace import remove_stale_workspaces
 
@@ -41,6 +42,8 @@ class GradeOptions:
     assignment: str = ASSIGNMENT
     progress: bool = True
     autograded: Path | None = None  # where executed notebooks go for formgrader; default: the course's autograded/
+    wall: float = 900.0  # seconds per notebook
+    disk_bytes: int = DEFAULT_FILE_BYTES  # each student's workdir
 
 
 def _worker_init() -> None:
@@ -138,6 +141,8 @@ def plan_units(submitted: Path, sources: list[Path], seed: int, options: GradeOp
                     max_processes=options.max_processes,
                     readonly=[str(paths.data), str(paths.starter)],
                     notes=notes,
+                    wall=options.wall,
+                    disk_bytes=options.disk_bytes,
                 )
             )
     return units

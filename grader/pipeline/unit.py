@@ -48,6 +48,8 @@ class UnitSpec:
         Seed of the run's hidden inputs.
     disk_bytes : int
         Size of the student's workdir (a tmpfs where the grader may mount one).
+    wall : float
+        Seconds the whole notebook may run, replays after kernel restarts included.
     """
 
     student_id: str
@@ -62,6 +64,7 @@ class UnitSpec:
     readonly: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     disk_bytes: int = DEFAULT_FILE_BYTES
+    wall: float = 900.0
 
 
 def sha256_of(path: str | Path) -> str | None:
@@ -161,6 +164,7 @@ def _grade_in(ws, spec: UnitSpec, source, sanitized, cells, started: float) -> d
         outputs,
         ExecuteOptions(
             timeout=spec.timeout,
+            wall=spec.wall,
             memory_bytes=spec.memory_bytes,
             max_processes=spec.max_processes,
             readonly=[Path(p) for p in spec.readonly],

@@ -8,11 +8,15 @@ is shared by the module; each entry then asserts its own expectation
 from __future__ import annotations
 
 import csv
+import fcntl
+import json
 import os
 import secrets
 import shutil
 import socket
+import subprocess
 import sys
+import tempfile
 import threading
 import time
 from collections.abc import Iterator
@@ -34,6 +38,9 @@ CAPPED = pids_parent() is not None
 ENTRIES = [e for e in _ALL_ENTRIES if CAPPED or not e.needs_process_cap]
 LEFT_OUT = sorted(e.name for e in _ALL_ENTRIES if e not in ENTRIES)
 SEED = 20240611
+# Small limits, so that the attacks on them are quick: a 45 s notebook and a 256 MiB workdir.
+WALL = 45.0
+DISK_BYTES = 256 * 2**20
 
 pytestmark = [
     pytest.mark.slow,
@@ -69,6 +76,57 @@ class Listener:
         self.sock.close()
 
 
+class Decoys:
+    """What attacks on the host aim at, made by the test: a folder with a secret, and a process whose
+    command line names a path in it. Never a real system path or PID 1 (the tests run as root)."""
+
+    def __init__(self, tmp: Path, token: str):
+        self.folder = tmp / f"decoy-{token}"
+        self.folder.mkdir()
+        self.secret = f"decoy-secret-{token}"
+        (self.folder / "secret.txt").write_text(self.secret)
+        (self.folder / "victim-arg").write_text("")
+        self.process = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(3600)", str(self.folder / "victim-arg")])
+        self.listing = self._listing()
+
+    def _listing(self) -> dict[str, bytes]:
+        return {p.name: p.read_bytes() for p in sorted(self.folder.iterdir())}
+
+    def problems(self) -> list[str]:
+        found = []
+        if self.process.poll() is not None:
+            found.append(f"the decoy process died (exit {self.process.returncode})")
+        if self._listing() != self.listing:
+            found.append(f"the decoy folder changed: {sorted(self._listing())} != {sorted(self.listing)}")
+        return found
+
+    def close(self) -> None:
+        self.process.kill()
+        self.process.wait()
+
+
+def _host_leftovers() -> set[str]:
+    """Work folders and per-sandbox cgroups no live grader holds, to compare before and after a run
+    (other test workers may be grading at the same time: their folders are locked, their cgroups' owners alive)."""
+    found = set()
+    for root in Path(tempfile.gettempdir()).glob("dl-*"):
+        if root.suffix == ".lock" or time.time() - root.stat().st_mtime < 10:
+            continue
+        try:
+            with open(root.with_name(root.name + ".lock")) as lock:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except FileNotFoundError:
+            pass
+        except OSError:  # held: a grader is using it
+            continue
+        found.add(root.name)
+    parent = pids_parent()
+    if parent is not None:
+        owners = {p: p.name.split("-")[1] for p in parent.glob("deformlab-*-*")}
+        found |= {p.name for p, pid in owners.items() if pid.isdigit() and not Path(f"/proc/{pid}").exists()}
+    return found
+
+
 @dataclass
 class Graded:
     results: dict[tuple[str, str], dict]
@@ -76,6 +134,7 @@ class Graded:
     params: dict[str, str]
     connections: int
     seconds: float
+    host_problems: list[str]
 
     def result(self, entry: CorpusEntry) -> dict:
         return self.results[(student_id(entry), entry.notebook)]
@@ -109,7 +168,13 @@ def _processes_with(text: str) -> list[int]:
 def graded(source_notebooks, tmp_path_factory) -> Iterator[Graded]:
     tmp = tmp_path_factory.mktemp("corpus")
     listener = Listener()
-    params = {"REPO": str(ROOT), "PORT": str(listener.port), "TOKEN": secrets.token_hex(6)}
+    token = secrets.token_hex(6)
+    decoys = Decoys(tmp, token)
+    params = {
+        "REPO": str(ROOT), "PORT": str(listener.port), "TOKEN": token, "DECOY": str(decoys.folder),
+        "DISK_BYTES": str(DISK_BYTES), "WALL": str(WALL),
+    }
+    before = _host_leftovers()
     root = _course_root(tmp, source_notebooks)
     submitted = tmp / "submitted"
     for entry in ENTRIES:
@@ -124,14 +189,23 @@ def graded(source_notebooks, tmp_path_factory) -> Iterator[Graded]:
             results = grade_class(
                 submitted,
                 tmp / "out",
-                GradeOptions(workers=2, timeout=10, db_url=f"sqlite:///{tmp}/gb.db", seed=SEED, progress=False),
+                GradeOptions(
+                    workers=2, timeout=10, wall=WALL, disk_bytes=DISK_BYTES,
+                    db_url=f"sqlite:///{tmp}/gb.db", seed=SEED, progress=False,
+                ),
             )
             seconds = time.monotonic() - started
+        host_problems = decoys.problems()
+        host_problems += [f"{name} was left on the host" for name in sorted(_host_leftovers() - before)]
+        shown = json.dumps(results)
+        if decoys.secret in shown:
+            host_problems.append("the decoy secret appears in a result (feedback, reasons or notes)")
     finally:
         listener.close()
+        decoys.close()
     with open(tmp / "out" / "grades.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    yield Graded({(r["student_id"], r["notebook"]): r for r in results}, rows, params, listener.connections, seconds)
+    yield Graded({(r["student_id"], r["notebook"]): r for r in results}, rows, params, listener.connections, seconds, host_problems)
     for marker in markers:  # never leave an escaped marker behind, whatever the assertions said
         marker.unlink(missing_ok=True)
 
@@ -162,6 +236,8 @@ def expectation_failures(entry: CorpusEntry, result: dict, graded: Graded) -> li
             problems.append(f"processes {pids} started by the submission outlived its kernel")
     if entry.event and not any(entry.event in event for event in result.get("events", [])):
         problems.append(f"no recorded event mentions {entry.event!r}; events: {result.get('events', [])}")
+    if entry.check:
+        problems += entry.check(result, result.get("autograded_notebook"), graded.params)
     if entry.listener and graded.connections:
         problems.append(f"the listener on 127.0.0.1 accepted {graded.connections} connection(s)")
     return problems
@@ -209,6 +285,10 @@ def test_corpus_entry_gets_exactly_its_expected_grade(graded, entry):
         moved = others.pop(entry.source)
         assert moved["score"] == moved["max_score"] and any("renamed file" in n for n in moved["notes"])
     assert {r["status"] for r in others.values()} == {"missing"}
+
+
+def test_the_host_is_as_it_was_decoys_untouched_no_secret_shown_nothing_left(graded):
+    assert not graded.host_problems, "\n".join(graded.host_problems)
 
 
 def test_grades_csv_has_one_row_per_student_and_notebook(graded):

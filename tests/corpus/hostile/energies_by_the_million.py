@@ -1,0 +1,29 @@
+import nbformat
+
+NOTEBOOK = "03_arap"
+DESCRIPTION = "an added cell makes arap_solve return 3e7 energies when the grader collects it (240 MB, which the grader must not plot)"
+_WRAPPER = '''import sys
+
+import numpy as np
+
+_honest_arap_solve = globals()["arap_solve"]
+
+
+def _flooding_arap_solve(data, handle_positions, U0=None, iterations=10):
+    U, energies = _honest_arap_solve(data, handle_positions, U0, iterations)
+    if sys._getframe(1).f_code.co_name == "__deformlab_collect__":
+        return U, np.linspace(1.0, 0.0, 30_000_000)
+    return U, energies
+
+
+globals()["arap_solve"] = _flooding_arap_solve
+'''
+
+
+def EDIT(nb):
+    nb.cells.append(nbformat.v4.new_code_cell(_WRAPPER))
+    return nb
+
+
+SOLUTIONS = {}
+LOSES = {"arap_solve"}
