@@ -120,7 +120,7 @@ def _read_untrusted(directory_fd: int, name: str, limit: int) -> bytes:
             raise OutputError(f"{name} is not a plain file")
         if info.st_size > limit:
             raise OutputError(f"{name} is larger than {limit // 2**20} MiB")
-        data = fh.read(limit + 1)
+        data = fh.read(info.st_size + 1)  # not limit + 1: read() allocates what it is asked for
     if len(data) > limit:
         raise OutputError(f"{name} is larger than {limit // 2**20} MiB")
     return data

@@ -17,6 +17,7 @@ import math
 import resource
 import signal
 import threading
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -72,10 +73,13 @@ def grader_limits(memory_bytes: int = DEFAULT_GRADER_MEMORY_BYTES, seconds: floa
     if cap is not None and (soft == resource.RLIM_INFINITY or cap < soft):
         resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
     previous = signal.signal(signal.SIGALRM, _on_alarm)
-    signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001) if math.isfinite(seconds) else 0)
+    started = time.monotonic()
+    outer_delay, outer_interval = signal.setitimer(signal.ITIMER_REAL, max(seconds, 0.001) if math.isfinite(seconds) else 0)
     try:
         yield True
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+        if outer_delay > 0:  # someone else's alarm (a test runner's timeout) goes on where it was
+            signal.setitimer(signal.ITIMER_REAL, max(outer_delay - (time.monotonic() - started), 0.001), outer_interval)
         resource.setrlimit(resource.RLIMIT_AS, (soft, hard))

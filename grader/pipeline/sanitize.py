@@ -89,7 +89,7 @@ def read_submission_bytes(path: Path) -> bytes:
             raise SubmissionError("the submission is not a regular file")
         if info.st_size > MAX_NOTEBOOK_BYTES:
             raise SubmissionError(f"the notebook is {info.st_size / 2**20:.0f} MiB, over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
-        data = fh.read(MAX_NOTEBOOK_BYTES + 1)
+        data = fh.read(info.st_size + 1)  # not the cap + 1: read() allocates what it is asked for
     if len(data) > MAX_NOTEBOOK_BYTES:
         raise SubmissionError(f"the notebook is over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
     return data

@@ -1,6 +1,6 @@
 """A unit's private folder on the host: the student's size-capped workdir and the kernel's runtime files.
 
-Layout of one workspace ``/tmp/dl-XXXX/`` (mode 0700, the grader's own)::
+Layout of one workspace ``/tmp/dl-unit-XXXX/`` (mode 0700, the grader's own)::
 
     work/      the student's working directory, bound read-write into the sandbox;
                a tmpfs of ``size_bytes`` when the grader may mount one (root), so
@@ -9,7 +9,7 @@ Layout of one workspace ``/tmp/dl-XXXX/`` (mode 0700, the grader's own)::
                ``work/``, so nothing the student writes is where the host reads
                or writes its own files)
 
-While in use a workspace holds an ``flock`` on ``/tmp/dl-XXXX.lock``. A grader
+While in use a workspace holds an ``flock`` on ``/tmp/dl-unit-XXXX.lock``. A grader
 killed mid-unit releases it with its death, and :func:`remove_stale_workspaces`
 removes (and unmounts) what it left behind.
 """
@@ -34,7 +34,7 @@ __all__ = ["Workspace", "workspace", "remove_stale_workspaces", "PREFIX"]
 
 log = logging.getLogger(__name__)
 
-PREFIX = "dl-"
+PREFIX = "dl-unit-"
 _MNT_DETACH = 2
 _MIN_STALE_SECONDS = 10
 
@@ -46,7 +46,7 @@ class Workspace:
     Attributes
     ----------
     root : Path
-        ``/tmp/dl-XXXX``, readable by the grader only.
+        ``/tmp/dl-unit-XXXX``, readable by the grader only.
     work : Path
         The student's working directory (``root / "work"``).
     kernels : Path

@@ -24,6 +24,23 @@ def tmp_path():
     shutil.rmtree(path, ignore_errors=True)
 
 
+@pytest.fixture(scope="session")
+def private_course(source_notebooks, repo_root):
+    """Make a course root whose assignments/ is private to a test; data/, starter/, notebooks/ are the checkout's."""
+
+    def make(tmp: Path) -> Path:
+        root = tmp / "course"
+        source = root / "assignments" / "source" / "deformation"
+        source.mkdir(parents=True)
+        for name in ("data", "starter", "notebooks"):
+            (root / name).symlink_to(repo_root / name)
+        for path in source_notebooks.values():
+            shutil.copy(path, source / path.name)
+        return root
+
+    return make
+
+
 @pytest.fixture(autouse=True)
 def collect_kernel_leftovers():
     """Finalize kernel clients between tests, never inside a later ``ast.parse``.

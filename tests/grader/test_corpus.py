@@ -12,7 +12,6 @@ import fcntl
 import json
 import os
 import secrets
-import shutil
 import socket
 import subprocess
 import sys
@@ -30,6 +29,7 @@ from grader.contract import STAGES
 from grader.corpus import CorpusEntry, build_submission, load_corpus, student_id, student_notebook
 from grader.pipeline.run import GradeOptions, grade_class
 from grader.sandbox.process_limit import pids_parent
+from grader.sandbox.workspace import PREFIX as WORKSPACE_PREFIX
 
 ROOT = Path(__file__).resolve().parents[2]
 # Entries that fork until refused are only safe where the sandbox caps processes.
@@ -109,17 +109,13 @@ def _host_leftovers() -> set[str]:
     """Work folders and per-sandbox cgroups no live grader holds, to compare before and after a run
     (other test workers may be grading at the same time: their folders are locked, their cgroups' owners alive)."""
     found = set()
-    for root in Path(tempfile.gettempdir()).glob("dl-*"):
-        if root.suffix == ".lock" or time.time() - root.stat().st_mtime < 10:
-            continue
+    for lock_path in Path(tempfile.gettempdir()).glob(f"{WORKSPACE_PREFIX}*.lock"):
         try:
-            with open(root.with_name(root.name + ".lock")) as lock:
+            with open(lock_path) as lock:
                 fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except FileNotFoundError:
-            pass
-        except OSError:  # held: a grader is using it
+        except OSError:  # held: a grader is using it (or it was just removed)
             continue
-        found.add(root.name)
+        found.add(lock_path.stem)
     parent = pids_parent()
     if parent is not None:
         owners = {p: p.name.split("-")[1] for p in parent.glob("deformlab-*-*")}
@@ -140,18 +136,6 @@ class Graded:
         return self.results[(student_id(entry), entry.notebook)]
 
 
-def _course_root(tmp: Path, source_notebooks: dict[str, Path]) -> Path:
-    """A course root whose assignments/ is private to this test; data/, starter/, notebooks/ are the checkout's."""
-    root = tmp / "course"
-    source = root / "assignments" / "source" / "deformation"
-    source.mkdir(parents=True)
-    for name in ("data", "starter", "notebooks"):
-        (root / name).symlink_to(ROOT / name)
-    for path in source_notebooks.values():
-        shutil.copy(path, source / path.name)
-    return root
-
-
 def _processes_with(text: str) -> list[int]:
     found = []
     for proc in Path("/proc").iterdir():
@@ -165,7 +149,7 @@ def _processes_with(text: str) -> list[int]:
 
 
 @pytest.fixture(scope="module")
-def graded(source_notebooks, tmp_path_factory) -> Iterator[Graded]:
+def graded(source_notebooks, tmp_path_factory, private_course) -> Iterator[Graded]:
     tmp = tmp_path_factory.mktemp("corpus")
     listener = Listener()
     token = secrets.token_hex(6)
@@ -175,7 +159,7 @@ def graded(source_notebooks, tmp_path_factory) -> Iterator[Graded]:
         "DISK_BYTES": str(DISK_BYTES), "WALL": str(WALL),
     }
     before = _host_leftovers()
-    root = _course_root(tmp, source_notebooks)
+    root = private_course(tmp)
     submitted = tmp / "submitted"
     for entry in ENTRIES:
         build_submission(entry, root / "assignments" / "source" / "deformation", submitted, student_id(entry), params)
@@ -260,7 +244,7 @@ def test_student_notebook_replaces_named_solution_cells_and_strips_the_markers(s
 
 
 def test_every_corpus_entry_builds_into_its_student_folder(source_notebooks, tmp_path):
-    params = {"REPO": str(ROOT), "PORT": "1", "TOKEN": "t"}
+    params = {"REPO": str(ROOT), "PORT": "1", "TOKEN": "t", "DECOY": str(tmp_path / "decoy"), "DISK_BYTES": "1", "WALL": "1"}
     for entry in ENTRIES:
         path = build_submission(entry, source_notebooks[entry.notebook].parent, tmp_path, student_id(entry), params)
         assert path == tmp_path / student_id(entry) / "deformation" / (entry.filename or f"{entry.notebook}.ipynb")
