@@ -21,7 +21,10 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
-__all__ = ["GraderLimitExceeded", "grader_limits", "DEFAULT_GRADER_MEMORY_BYTES", "DEFAULT_GRADER_SECONDS"]
+__all__ = [
+    "GraderLimitExceeded", "grader_limits", "reset_peak_rss", "peak_rss_bytes",
+    "DEFAULT_GRADER_MEMORY_BYTES", "DEFAULT_GRADER_SECONDS",
+]
 
 #: Address space the grader may add while verifying one function or drawing one unit's feedback.
 DEFAULT_GRADER_MEMORY_BYTES = 2 * 2**30
@@ -36,6 +39,32 @@ def _address_space_bytes() -> int | None:
     try:
         for line in Path("/proc/self/status").read_text().splitlines():
             if line.startswith("VmSize:"):
+                return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def reset_peak_rss() -> bool:
+    """Start this process's resident-memory high-water mark (``VmHWM``) afresh, so it measures one unit.
+
+    Returns
+    -------
+    bool
+        Whether the kernel allowed it (Linux: ``/proc/self/clear_refs``).
+    """
+    try:
+        Path("/proc/self/clear_refs").write_text("5")
+        return True
+    except OSError:
+        return False
+
+
+def peak_rss_bytes() -> int | None:
+    """This process's resident-memory high-water mark (``VmHWM``) in bytes, since start or the last reset."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
                 return int(line.split()[1]) * 1024
     except (OSError, ValueError, IndexError):
         return None

@@ -22,7 +22,7 @@ from grader.harness.fixtures import write_fixtures
 from grader.harness.outputs import OutputError, read_outputs
 from grader.pipeline.execute import ExecuteOptions, execute
 from grader.pipeline.feedback import feedback_html
-from grader.pipeline.guard import GraderLimitExceeded, grader_limits
+from grader.pipeline.guard import GraderLimitExceeded, grader_limits, peak_rss_bytes, reset_peak_rss
 from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, verify
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
@@ -104,6 +104,7 @@ def _result(spec: UnitSpec, status: str, tests: list[dict], reasons: list[str], 
         "seed": spec.seed,
         "submission_sha256": sha256_of(spec.submission) if spec.submission else None,
         "duration_s": round(time.monotonic() - started, 3),
+        "grader_peak_rss_bytes": peak_rss_bytes(),  # the grading process's own peak over this unit
         **extra,
     }
 
@@ -119,6 +120,7 @@ def grade_unit(spec: UnitSpec) -> dict:
         autograded_notebook`` (the executed notebook as JSON text, or None).
     """
     started = time.monotonic()
+    reset_peak_rss()
     source = nbformat.read(spec.source, as_version=4)
     if spec.submission is None:
         return zero_result(spec, source, "missing", f"no {spec.notebook}.ipynb was submitted", started) | {

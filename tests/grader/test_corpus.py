@@ -298,9 +298,12 @@ def test_corpus_summary(graded, report_summary):
             f"  {flag:<4} {entry.kind:<8} {entry.name:<34} {entry.notebook:<19} {result['status']:<22} "
             f"{result['score']:g}/{result['max_score']:g}  {result.get('duration_s', 0):5.1f} s"
         )
+    peaks = [(r.get("grader_peak_rss_bytes") or 0, sid, nb) for (sid, nb), r in graded.results.items()]
+    peak, peak_sid, peak_nb = max(peaks)
     summary = "\n".join(
         [
             f"corpus graded in {graded.seconds:.1f} s ({len(graded.results)} units, 2 workers, timeout 10 s):",
+            f"  grading process's peak resident memory over one unit: {peak / 2**20:.0f} MiB at most ({peak_sid} {peak_nb})",
             *lines,
             f"  buggy caught (exactly their functions lose): {counts['buggy'][0]}/{counts['buggy'][1]}; "
             f"correct with full marks: {counts['correct'][0]}/{counts['correct'][1]}; "

@@ -415,3 +415,50 @@ def test_a_kernel_forking_past_its_process_cap_is_refused_survives_and_leaves_no
     left = [pid for pid in members if is_alive(pid)]
     assert not left, left
 
+
+
+def test_the_connection_file_and_sockets_live_outside_the_workdir_and_cannot_be_swapped(tmp_path):
+    spec = _course(tmp_path)
+    km, kc = _start(spec)
+    try:
+        assert spec.workdir not in Path(km.connection_file).parents and list(spec.workdir.iterdir()) == []
+        out, _ = _run(
+            kc,
+            f"""
+            import os
+            from ipykernel.connect import get_connection_file
+            cf = get_connection_file()
+            for attempt in (lambda: open(cf, "w"), lambda: os.remove(cf), lambda: os.rename(cf, cf + ".x"),
+                            lambda: os.symlink("/etc/passwd", {str(km.sockets_dir / "planted")!r})):
+                try:
+                    attempt()
+                    print("done")
+                except OSError as exc:
+                    print(type(exc).__name__)
+            """,
+        )
+        refused = out.split()
+        assert refused[:3] == ["OSError", "OSError", "OSError"] or all(r != "done" for r in refused[:3]), out
+        if os.geteuid() == 0:  # only root can hand the sockets' folder to another owner
+            assert refused[3] == "PermissionError", out
+            assert not (km.sockets_dir / "planted").exists()
+        out, _ = _run(kc, "print('alive')")
+        assert out == "alive\n"
+    finally:
+        kc.stop_channels()
+        km.shutdown_kernel(now=True)
+    assert not km.runtime_dir.exists()
+
+
+def test_shutdown_kills_by_pid_namespace_not_by_what_command_lines_say(tmp_path):
+    km, kc = _start(_course(tmp_path))
+    # a host process naming the kernel's files, as the old argv matching would have picked
+    bystander = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(600)", km.connection_file, str(km.sockets_dir)])
+    try:
+        assert km.pid_namespace is not None and km.pid_namespace != os.readlink("/proc/self/ns/pid")
+        kc.stop_channels()
+        km.shutdown_kernel(now=True)
+        assert bystander.poll() is None, "shutdown killed a host process because of its command line"
+    finally:
+        bystander.kill()
+        bystander.wait()
