@@ -263,6 +263,9 @@ def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Cours
             for unit in suspects:
                 todo.remove(unit)
                 finish(_grade_alone(unit, grade))
+            if suspects:
+                remove_stale_workspaces()  # what the dead worker held (if older than a few seconds; else the next run)
+                remove_stale_limits()
     bar.close()
     record.write_grades_csv(out, results)
     _print_summary(results, out)

@@ -53,8 +53,9 @@ def test_wrap_command_rejects_an_empty_argv(tmp_path):
 def test_kernel_manager_rejects_socket_paths_too_long_and_fixed_traits(tmp_path):
     deep = tmp_path / ("d" * 100)
     deep.mkdir()
-    with pytest.raises(ValueError, match="workdir is too long for Unix socket paths"):
-        SandboxedKernelManager(SandboxSpec(workdir=deep))
+    with pytest.raises(ValueError, match="runtime_root is too long for Unix socket paths"):
+        SandboxedKernelManager(SandboxSpec(workdir=tmp_path), runtime_root=deep)
+    assert list(deep.iterdir()) == []  # the refused manager left no runtime folder
     with pytest.raises(ValueError, match=r"kw must not set \['transport'\]"):
         SandboxedKernelManager(SandboxSpec(workdir=tmp_path), transport="tcp")
 
