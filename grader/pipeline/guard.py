@@ -14,12 +14,16 @@ from __future__ import annotations
 
 import contextlib
 import math
+import os
 import resource
 import signal
 import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
+
+from grader.sandbox.limits import peak_rss_bytes as process_peak_rss_bytes
+from grader.sandbox.limits import status_bytes
 
 __all__ = [
     "GraderLimitExceeded", "grader_limits", "reset_peak_rss", "peak_rss_bytes",
@@ -33,16 +37,6 @@ DEFAULT_GRADER_SECONDS = 120.0
 
 class GraderLimitExceeded(Exception):
     """The grader's own work on a student's outputs ran past its time limit."""
-
-
-def _address_space_bytes() -> int | None:
-    try:
-        for line in Path("/proc/self/status").read_text().splitlines():
-            if line.startswith("VmSize:"):
-                return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        return None
-    return None
 
 
 def reset_peak_rss() -> bool:
@@ -62,13 +56,7 @@ def reset_peak_rss() -> bool:
 
 def peak_rss_bytes() -> int | None:
     """This process's resident-memory high-water mark (``VmHWM``) in bytes, since start or the last reset."""
-    try:
-        for line in Path("/proc/self/status").read_text().splitlines():
-            if line.startswith("VmHWM:"):
-                return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        return None
-    return None
+    return process_peak_rss_bytes([os.getpid()])
 
 
 def _on_alarm(signum, frame):
@@ -95,7 +83,7 @@ def grader_limits(memory_bytes: int = DEFAULT_GRADER_MEMORY_BYTES, seconds: floa
         yield False
         return
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
-    now = _address_space_bytes()
+    now = status_bytes(os.getpid(), "VmSize")
     cap = None if now is None else now + int(memory_bytes)
     if cap is not None and hard != resource.RLIM_INFINITY:
         cap = min(cap, hard)

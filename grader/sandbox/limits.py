@@ -16,7 +16,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "pid_namespace", "namespace_members", "peak_rss_bytes", "kill_and_reap", "is_alive"]
+__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "pid_namespace", "namespace_members", "status_bytes", "peak_rss_bytes", "kill_and_reap", "is_alive"]
 
 
 class Process(NamedTuple):
@@ -161,12 +161,25 @@ def namespace_members(namespace: str) -> list[int]:
     return sorted(found)
 
 
-def _status_kib(pid: int, key: str) -> int | None:
+def status_bytes(pid: int, key: str) -> int | None:
+    """A size field of ``/proc/<pid>/status`` (``VmHWM``, ``VmSize``, …) in bytes; ``None`` if unreadable.
+
+    Parameters
+    ----------
+    pid : int
+        Host pid.
+    key : str
+        The field's name.
+
+    Returns
+    -------
+    int or None
+    """
     try:
         for line in Path(f"/proc/{pid}/status").read_text().splitlines():
             if line.startswith(key + ":"):
-                return int(line.split()[1])
-    except OSError:
+                return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
         return None
     return None
 
@@ -186,8 +199,8 @@ def peak_rss_bytes(pids: Iterable[int]) -> int | None:
         alive. ``VmHWM`` is each process's own high-water mark since it started,
         so sampling any time before it exits gives its true peak.
     """
-    peaks = [kib for kib in (_status_kib(p, "VmHWM") for p in pids) if kib is not None]
-    return max(peaks) * 1024 if peaks else None
+    peaks = [b for b in (status_bytes(p, "VmHWM") for p in pids) if b is not None]
+    return max(peaks) if peaks else None
 
 
 def is_alive(pid: int) -> bool:
