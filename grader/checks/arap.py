@@ -13,7 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_pair, close, verdict
-from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy
+from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
 from grader.checks.rotations import rotation_verdicts
 from grader.checks.shape_matching import random_rotation, trace_verdict
 from grader.contract import reference_function as reference
@@ -59,7 +59,7 @@ def deformation_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, 
 
     def add(label, V, F, handles, move):
         V, F = relabel(V, F, rng)
-        handles = rng.permutation(handles(V))
+        handles = unsorted_order(rng, handles(V))
         scenes[label] = (V, F, handles, move(V[handles]))
 
     def ends(V):

@@ -13,7 +13,7 @@ import numpy as np
 
 from grader.checks.arap import sparse_verdict
 from grader.checks.base import Case, FunctionChecks, as_array, as_pair, close, verdict
-from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy
+from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
 from grader.contract import reference_function as reference
 from starter import shapes
 
@@ -54,7 +54,7 @@ def handle_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, np.nd
     def add(label, V, F, pick, move=None):
         V, F = relabel(V, F, rng)
         handles = [np.asarray(h, dtype=np.int64) for h in pick(V)]  # picked by position, before any move
-        scenes[label] = (V if move is None else move(V), F, [handles[j] for j in rng.permutation(len(handles))])
+        scenes[label] = (V if move is None else move(V), F, [handles[j] for j in unsorted_order(rng, len(handles))])
 
     def near(V, centre, radius):
         return rng.permutation(np.flatnonzero(np.linalg.norm(V - centre, axis=1) <= radius))

@@ -2,7 +2,7 @@
 
 The mesh helpers here (``relabel``, ``disjoint_union``, ``jittered_grid``,
 ``perforated_slab``, ``closed_mesh_with_hole``, ``clockwise``, ``mixed_orientation``,
-``similar_copy``) are also used by the later stages' checks, so every stage draws its
+``similar_copy``, ``unsorted_order``) are also used by the later stages' checks, so every stage draws its
 hidden meshes the same way: a small mesh from ``starter.shapes`` with its
 vertices, triangles and corners shuffled by the run's generator, so that no
 output can be memorized from the handout. The contract fixes no orientation,
@@ -76,6 +76,18 @@ def mixed_orientation(F: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     flip = rng.uniform(size=len(F)) < 0.5
     F[flip] = F[flip][:, ::-1]
     return F
+
+
+def unsorted_order(rng: np.random.Generator, items) -> np.ndarray:
+    """``items`` (a 1-D array, or a count ``k`` for ``range(k)``) in random order, never ascending when there are two or more.
+
+    Handles in ascending order would hide an implementation that sorts them,
+    e.g. by ``np.unique``.
+    """
+    order = rng.permutation(items)
+    if len(order) > 1 and np.all(np.diff(order) > 0):
+        order = order[::-1]
+    return order
 
 
 def similar_copy(rng: np.random.Generator, d: int, scale: float, distance: float):

@@ -7,7 +7,7 @@ import pytest
 
 import reference.meshes as ref
 from grader.checks import check_namespace
-from grader.checks.meshes import _topology_meshes, clockwise, closed_mesh_with_hole, disjoint_union, mixed_orientation, perforated_slab, relabel, similar_copy
+from grader.checks.meshes import _topology_meshes, clockwise, closed_mesh_with_hole, disjoint_union, mixed_orientation, perforated_slab, relabel, similar_copy, unsorted_order
 from starter import shapes
 
 
@@ -149,3 +149,12 @@ def test_a_similar_copy_scales_distances_and_moves_the_centroid():
     assert (signed_areas(W, F) > 0).all()  # turned, never mirrored
     assert np.allclose(np.linalg.norm(W[1:] - W[0], axis=1), 0.01 * np.linalg.norm(V[1:] - V[0], axis=1))
     assert np.isclose(np.linalg.norm(move(np.zeros((1, 2)))), 20.0)
+
+
+def test_handle_orders_are_never_ascending():
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        for items in (2, 3, np.array([0, 4, 5]), np.array([7, 9])):
+            order = unsorted_order(rng, items)
+            assert not np.all(np.diff(order) > 0)
+            assert sorted(order.tolist()) == (list(range(items)) if np.ndim(items) == 0 else sorted(items.tolist()))
