@@ -218,7 +218,7 @@ def _positions_verdict(name: str, U: np.ndarray, want: np.ndarray, V: np.ndarray
 
 class CotangentWeightsChecks(FunctionChecks):
     function = "cotangent_weights"
-    description = "C[t, k] = ½ cot of the angle at corner k, in 2D and 3D, with thin and obtuse triangles"
+    description = "C[t, k] = ½ cot of the angle at corner k, in 2D and 3D, with thin and obtuse, clockwise and counter-clockwise triangles"
 
     def cases(self, rng):
         return [Case.call(label, "cotangent_weights", V, F) for label, (V, F) in _cotangent_meshes(rng).items()]
@@ -386,7 +386,7 @@ class ArapPrecomputeChecks(FunctionChecks):
 class ArapGlobalStepChecks(FunctionChecks):
     function = "arap_global_step"
     needs = ("arap_precompute",)
-    description = "U minimizing the ARAP energy for given rotations with the handles met exactly, in 2D and 3D"
+    description = "U minimizing the ARAP energy for given rotations with the handles met exactly, in 2D and 3D, handles in any order, at any size and place"
 
     def cases(self, rng):
         cases = []

@@ -212,7 +212,7 @@ def _integer_verdict(got, expected, what: str) -> list:
 
 class EdgesChecks(FunctionChecks):
     function = "edges"
-    description = "each undirected edge once, rows sorted, rows in lexicographic order, on closed, bounded and multi-component meshes"
+    description = "each undirected edge once, rows sorted, rows in lexicographic order, on closed, bounded and multi-component meshes, triangles in either orientation"
 
     def cases(self, rng):
         return [Case.call(label, "edges", F) for label, _, F in _topology_meshes(rng)]
@@ -258,7 +258,7 @@ class EulerCharacteristicChecks(FunctionChecks):
 
 class BoundaryLoopCountChecks(FunctionChecks):
     function = "boundary_loop_count"
-    description = "number of boundary loops: 0 on closed meshes, one per hole and per outer boundary otherwise"
+    description = "number of boundary loops: 0 on closed meshes, one per hole and per outer boundary otherwise, whatever the triangles' orientation"
 
     def cases(self, rng):
         return [Case.call(label, "boundary_loop_count", F) for label, _, F in _topology_meshes(rng)]
