@@ -253,9 +253,17 @@ class CotangentLaplacianChecks(FunctionChecks):
         want = as_array(expected, (n, n), "the reference's L")
         scale = float(np.abs(want).max())
         ok, where = close(L, want, DIRECT_RTOL, scale)
-        hint = " (the signs are flipped: off-diagonal entries are +Σ C, the diagonal is minus their sum)" if (
-            not ok and close(L, -want, DIRECT_RTOL, scale)[0]
-        ) else ""
+        hint = ""
+        if not ok and close(L, -want, DIRECT_RTOL, scale)[0]:
+            import igl
+
+            V, F = case.args()
+            clockwise = V.shape[1] == 2 and bool(np.all(igl.doublearea(V, F) < 0))  # signed for 2D input
+            hint = (
+                " (the signs are flipped on this clockwise mesh: are the cotangents divided by a signed area?)"
+                if clockwise
+                else " (the signs are flipped: off-diagonal entries are +Σ C, the diagonal is minus their sum)"
+            )
         return [
             sparse_verdict(got),
             verdict("L matches", ok, f"{where}{hint}"),

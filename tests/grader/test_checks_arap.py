@@ -259,3 +259,15 @@ def test_scenes_have_clockwise_mixed_and_scaled_copies_the_reference_solves_alik
     fit = np.linalg.lstsq(np.c_[V, np.ones(len(V))], Vs, rcond=None)[0]
     assert np.allclose(np.c_[U, np.ones(len(U))] @ fit, Us, atol=1e-9)
     assert np.allclose(ref.cotangent_weights(V, F), ref.cotangent_weights(Vs, Fs))
+
+
+def test_a_laplacian_of_signed_area_cotangents_is_told_about_clockwise_triangles():
+    from grader.build.lift import lift
+
+    # the notebook's Laplacian cell calls the student's cotangent_weights
+    notebook = {"cotangent_weights": cotangent_weights_of_signed_area}
+    exec(lift("cotangent_laplacian").source, notebook)
+    result = grade("cotangent_laplacian", cotangent_laplacian=notebook["cotangent_laplacian"])
+    details = [v.detail for c in result.cases for v in c.verdicts if not v.passed]
+    assert any("clockwise mesh" in d and "signed area" in d for d in details)
+    assert not any("clockwise" in d for d in details if "signs are flipped:" in d)
