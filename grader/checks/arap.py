@@ -13,7 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_pair, close, verdict
-from grader.checks.meshes import disjoint_union, jittered_grid, relabel
+from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
 from grader.checks.rotations import rotation_verdicts
 from grader.checks.shape_matching import random_rotation, trace_verdict
 from grader.contract import reference_function as reference
@@ -41,18 +41,25 @@ def axis_rotation(axis: int, angle: float) -> np.ndarray:
     return R
 
 
+DISC = "2D disc with two holes, clockwise triangles, random handles dragged"
+JITTERED = "2D jittered grid with obtuse triangles, each in either orientation, random handles dragged"
+TWO_COMPONENTS = "two 2D components, one clockwise and one counter-clockwise, handles on each"
+SCALED = "2D strip turned by 90°, the whole problem scaled by 1/100, rotated and moved 20 units away"
+
+
 def deformation_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
     """Hidden ARAP problems by label: ``(V, F, handles, handle_positions)``, vertices in random order.
 
     Covers 2D and 3D, closed and bounded meshes, thin and obtuse triangles,
     a planar mesh in 3D, two connected components, large rotations of the
-    handles and handles in random order.
+    handles and handles in random order; clockwise, counter-clockwise and
+    mixed 2D triangles; a whole problem scaled down and moved far away.
     """
     scenes = {}
 
     def add(label, V, F, handles, move):
         V, F = relabel(V, F, rng)
-        handles = rng.permutation(handles(V))
+        handles = unsorted_order(rng, handles(V))
         scenes[label] = (V, F, handles, move(V[handles]))
 
     def ends(V):
@@ -82,14 +89,16 @@ def deformation_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, 
         return out
 
     add("2D strip, right end turned by 90°", *shapes.grid_2d(10, 3, width=3.0, height=0.6), ends, bend_right_end(np.pi / 2))
-    add("2D disc with two holes, random handles dragged", *shapes.disc_with_holes(2, 0.04), random_vertices(4), drag)
+    V, F = shapes.disc_with_holes(2, 0.04)
+    add(DISC, V, clockwise(F), random_vertices(4), drag)
     add(
         "2D strip of thin triangles (aspect 100:1), right end turned",
         *shapes.grid_2d(10, 2, width=1.0, height=0.002),
         ends,
         bend_right_end(0.6),
     )
-    add("2D jittered grid with obtuse triangles, random handles dragged", *jittered_grid(rng, 7, 7, amount=0.35), random_vertices(5), drag)
+    V, F = jittered_grid(rng, 7, 7, amount=0.35)
+    add(JITTERED, V, mixed_orientation(F, rng), random_vertices(5), drag)
     add("3D bar bent by 90°", *shapes.bar(length=3.0, nx=9, ny=2, nz=2), ends, bend_right_end(np.pi / 2))
     add("3D bar twisted by more than 110°", *shapes.bar(length=3.0, nx=8, ny=2, nz=2), ends, twist)
     V, F = shapes.grid_2d(6, 4, width=1.5)
@@ -102,11 +111,15 @@ def deformation_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, 
     )
     grid = shapes.grid_2d(5, 3)
     add(
-        "two 2D components, handles on each",
-        *disjoint_union(grid, (grid[0] + [2.0, 0.0], grid[1])),
+        TWO_COMPONENTS,
+        *disjoint_union(grid, (grid[0] + [2.0, 0.0], clockwise(grid[1]))),
         lambda V: np.concatenate([rng.choice(np.flatnonzero(V[:, 0] < 1.5), 2, replace=False), rng.choice(np.flatnonzero(V[:, 0] > 1.5), 2, replace=False)]),
         drag,
     )
+    # The strip's problem again, 100 times smaller, turned and 20 units from the origin: nothing may depend on the size or place.
+    V, F, handles, P = scenes["2D strip, right end turned by 90°"]
+    move = similar_copy(rng, 2, 0.01, 20.0)
+    scenes[SCALED] = (move(V), F, handles, move(P))
     return scenes
 
 
@@ -140,8 +153,8 @@ def _local_step_inputs(rng: np.random.Generator) -> list[tuple[str, np.ndarray, 
 
     scenes = deformation_scenes(rng)
     picks = [
-        ("2D disc with two holes", "2D disc with two holes, random handles dragged", "rotated"),
-        ("2D jittered grid", "2D jittered grid with obtuse triangles, random handles dragged", "mirrored"),
+        ("2D disc with two holes, clockwise", DISC, "rotated"),
+        ("2D jittered grid, triangles in either orientation", JITTERED, "mirrored"),
         ("3D bar", "3D bar bent by 90°", "rotated"),
         ("3D bar", "3D bar twisted by more than 110°", "mirrored"),
         ("planar 3D mesh (z = 0)", "planar 3D mesh (z = 0), random handles lifted out of the plane", "mirrored"),
@@ -151,8 +164,8 @@ def _local_step_inputs(rng: np.random.Generator) -> list[tuple[str, np.ndarray, 
     for name, scene, kind in picks:
         V, F = scenes[scene][:2]
         out.append((f"{name}, {kind} copy", V, _deformed(rng, V, kind), F, igl.cotmatrix_entries(V, F)))
-    V, F = scenes["two 2D components, handles on each"][:2]
-    out.append(("two 2D components, arbitrary signed weights C", V, _deformed(rng, V, "rotated"), F, rng.normal(size=F.shape)))
+    V, F = scenes[TWO_COMPONENTS][:2]
+    out.append(("two 2D components of opposite orientations, arbitrary signed weights C", V, _deformed(rng, V, "rotated"), F, rng.normal(size=F.shape)))
     return out
 
 
@@ -205,7 +218,7 @@ def _positions_verdict(name: str, U: np.ndarray, want: np.ndarray, V: np.ndarray
 
 class CotangentWeightsChecks(FunctionChecks):
     function = "cotangent_weights"
-    description = "C[t, k] = ½ cot of the angle at corner k, in 2D and 3D, with thin and obtuse triangles"
+    description = "C[t, k] = ½ cot of the angle at corner k, in 2D and 3D, with thin and obtuse, clockwise and counter-clockwise triangles"
 
     def cases(self, rng):
         return [Case.call(label, "cotangent_weights", V, F) for label, (V, F) in _cotangent_meshes(rng).items()]
@@ -222,6 +235,8 @@ class CotangentWeightsChecks(FunctionChecks):
                 hint = " (these are cot, the contract asks for ½ cot)"
             elif any(close(C, np.roll(want, s, axis=1), DIRECT_RTOL, scale)[0] for s in (1, 2)):
                 hint = " (columns are shifted: C[t, k] belongs to the angle at corner k, opposite edge (F[t,k+1], F[t,k+2]))"
+            elif close(np.abs(C), np.abs(want), DIRECT_RTOL, scale)[0]:
+                hint = " (some triangles have the sign wrong: clockwise triangles? sin is |u × v| / (|u| |v|), never negative)"
         return [verdict("C matches ½ cot of each corner's angle", ok, f"{where} (triangle, corner){hint}")]
 
 
@@ -238,9 +253,17 @@ class CotangentLaplacianChecks(FunctionChecks):
         want = as_array(expected, (n, n), "the reference's L")
         scale = float(np.abs(want).max())
         ok, where = close(L, want, DIRECT_RTOL, scale)
-        hint = " (the signs are flipped: off-diagonal entries are +Σ C, the diagonal is minus their sum)" if (
-            not ok and close(L, -want, DIRECT_RTOL, scale)[0]
-        ) else ""
+        hint = ""
+        if not ok and close(L, -want, DIRECT_RTOL, scale)[0]:
+            import igl
+
+            V, F = case.args()
+            clockwise = V.shape[1] == 2 and bool(np.all(igl.doublearea(V, F) < 0))  # signed for 2D input
+            hint = (
+                " (the signs are flipped on this clockwise mesh: are the cotangents divided by a signed area?)"
+                if clockwise
+                else " (the signs are flipped: off-diagonal entries are +Σ C, the diagonal is minus their sum)"
+            )
         return [
             sparse_verdict(got),
             verdict("L matches", ok, f"{where}{hint}"),
@@ -351,7 +374,7 @@ class ArapPrecomputeChecks(FunctionChecks):
     def cases(self, rng):
         scenes = deformation_scenes(rng)
         cases = []
-        for label in ("2D disc with two holes, random handles dragged", "3D bar bent by 90°", "two 2D components, handles on each"):
+        for label in (DISC, "3D bar bent by 90°", TWO_COMPONENTS):
             V, F, handles, P = scenes[label]
             P2 = P + rng.normal(0.0, 0.2, P.shape)
             R1, R2 = (_random_local_rotations(rng, V, F, X, handles) for X in (P, P2))
@@ -371,7 +394,7 @@ class ArapPrecomputeChecks(FunctionChecks):
 class ArapGlobalStepChecks(FunctionChecks):
     function = "arap_global_step"
     needs = ("arap_precompute",)
-    description = "U minimizing the ARAP energy for given rotations with the handles met exactly, in 2D and 3D"
+    description = "U minimizing the ARAP energy for given rotations with the handles met exactly, in 2D and 3D, handles in any order, at any size and place"
 
     def cases(self, rng):
         cases = []
@@ -439,12 +462,13 @@ class ArapSolveChecks(FunctionChecks):
         scenes = deformation_scenes(rng)
         plans = [
             ("2D strip, right end turned by 90°", None, 8),
-            ("2D disc with two holes, random handles dragged", "noisy", 3),
+            (DISC, "noisy", 3),
             ("2D strip of thin triangles (aspect 100:1), right end turned", None, 4),
             ("3D bar bent by 90°", None, 6),
             ("3D bar twisted by more than 110°", "noisy", 1),
             ("planar 3D mesh (z = 0), random handles lifted out of the plane", None, None),
-            ("two 2D components, handles on each", "rotated", 5),
+            (TWO_COMPONENTS, "rotated", 5),
+            (SCALED, None, 3),
         ]
         cases = []
         for label, start, iterations in plans:

@@ -13,7 +13,7 @@ import numpy as np
 
 from grader.checks.arap import sparse_verdict
 from grader.checks.base import Case, FunctionChecks, as_array, as_pair, close, verdict
-from grader.checks.meshes import disjoint_union, jittered_grid, relabel
+from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
 from grader.contract import reference_function as reference
 from starter import shapes
 
@@ -46,13 +46,15 @@ def handle_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, np.nd
 
     Point handles (one vertex), bones (a segment of vertices) and regions
     (discs of vertices), in 2D and 3D, on one or two connected components,
-    with vertices in random order.
+    with vertices and handles in random order; clockwise, counter-clockwise
+    and mixed 2D triangles; one problem scaled down and moved far away.
     """
     scenes = {}
 
-    def add(label, V, F, pick):
+    def add(label, V, F, pick, move=None):
         V, F = relabel(V, F, rng)
-        scenes[label] = (V, F, [np.asarray(h, dtype=np.int64) for h in pick(V)])
+        handles = [np.asarray(h, dtype=np.int64) for h in pick(V)]  # picked by position, before any move
+        scenes[label] = (V if move is None else move(V), F, [handles[j] for j in unsorted_order(rng, len(handles))])
 
     def near(V, centre, radius):
         return rng.permutation(np.flatnonzero(np.linalg.norm(V - centre, axis=1) <= radius))
@@ -97,13 +99,24 @@ def handle_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, np.nd
         nearby = np.flatnonzero(right & (gaps < 0.2) & (np.arange(len(V)) != first))
         return [near(V, [0.5, 0.5], 0.3), [first], *[[int(i)] for i in rng.choice(nearby, 2, replace=False)], [int(np.argmax(gaps))]]
 
-    add("2D disc with a hole, 4 point handles far apart", *_coarse_disc_with_hole(rng), lambda V: spread_points(V, 4))
-    add("2D square, 3 point handles close together and one far", *jittered_grid(rng, 10, 10, 1.0, 1.0), close_points)
-    add("2D strip, 3 bones", *shapes.grid_2d(15, 8, width=3.0, height=1.0), bones)
+    V, F = _coarse_disc_with_hole(rng)
+    add("2D disc with a hole, clockwise triangles, 4 point handles far apart", V, clockwise(F), lambda V: spread_points(V, 4))
+    V, F = jittered_grid(rng, 10, 10, 1.0, 1.0)
+    add("2D square, triangles in either orientation, 3 point handles close together and one far", V, mixed_orientation(F, rng), close_points)
+    add(
+        "2D strip, 3 bones, the whole problem scaled by 1/100, turned and moved 10 units away",
+        *shapes.grid_2d(15, 8, width=3.0, height=1.0),
+        bones,
+        similar_copy(rng, 2, 0.01, 10.0),
+    )
     add("2D jittered grid, two regions and two points", *jittered_grid(rng, 12, 12, 1.0, 1.0), regions_and_points)
     add("3D bar, regions at both ends and a point in the middle", *shapes.bar(length=3.0, nx=10, ny=3, nz=3), bar_handles)
     square = jittered_grid(rng, 10, 10, 1.0, 1.0)
-    add("two 2D components, a region on the first, close and far point handles on the second", *disjoint_union(shapes.grid_2d(6, 4), (square[0] + [2.0, 0.0], square[1])), two_components)
+    add(
+        "two 2D components, a region on the counter-clockwise first, close and far point handles on the clockwise second",
+        *disjoint_union(shapes.grid_2d(6, 4), (square[0] + [2.0, 0.0], clockwise(square[1]))),
+        two_components,
+    )
     return scenes
 
 
@@ -171,7 +184,7 @@ class InverseDistanceWeightsChecks(FunctionChecks):
 
     def cases(self, rng):
         scenes = handle_scenes(rng)
-        V2, _, _ = scenes["2D disc with a hole, 4 point handles far apart"]
+        V2, _, _ = scenes["2D disc with a hole, clockwise triangles, 4 point handles far apart"]
         V3, _, _ = scenes["3D bar, regions at both ends and a point in the middle"]
         Vg, _, _ = scenes["2D jittered grid, two regions and two points"]
         on_vertices = V2[rng.choice(len(V2), 4, replace=False)]

@@ -19,7 +19,7 @@ import numpy as np
 
 from grader.checks.arap import DIRECT_RTOL, HANDLE_TOL, ITERATE_RTOL, axis_rotation, energy_scale, energy_verdict, local_global_energy_verdicts
 from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_pair, close, verdict
-from grader.checks.meshes import relabel
+from grader.checks.meshes import clockwise, mixed_orientation, relabel, unsorted_order
 from grader.checks.rotations import rotation_verdicts
 from grader.checks.shape_matching import random_rotation, trace_verdict
 from grader.contract import reference_function as reference
@@ -88,19 +88,26 @@ def _permuted_clusters(rng: np.random.Generator, W: np.ndarray, k: int) -> np.nd
     return rng.permutation(k)[labels].astype(np.int64)
 
 
+CHARACTER_ONE_CLUSTER = "2D character, clockwise triangles, one cluster (a single rotation)"
+STRIP = "2D strip, triangles in either orientation, 3 bones, ends turned 60° apart, 5 clusters"
+DISC = "2D disc with two holes, clockwise triangles, 4 point handles, a single fixed one moved rigidly, 8 clusters"
+
+
 def fast_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
     """Hidden FAST problems by label: ``(V, F, W, clusters, fixed, fixed_transforms)``.
 
     Vertices in random order, 2D and 3D, point, bone and region handles,
     bounded and unconstrained biharmonic weights, fixed handles in random
-    order, one to ``n`` clusters with labels in random order, large rotations.
+    order, one to ``n`` clusters with labels in random order, large rotations,
+    clockwise, counter-clockwise and mixed 2D triangles.
     """
     scenes = {}
 
-    def add(label, name, k, fixed, move):
+    def add(label, name, k, fixed, move, orient=None):
         V, F, W, centres = _rig(name, rng)
+        F = F if orient is None else orient(F)
         clusters = rng.permutation(len(V)).astype(np.int64) if k == "n" else _permuted_clusters(rng, W, k)
-        fixed = rng.permutation(np.asarray(fixed, dtype=np.int64))
+        fixed = unsorted_order(rng, np.asarray(fixed, dtype=np.int64))
         scenes[label] = (V, F, W, clusters, fixed, np.stack([move(j, centres[j]) for j in fixed]))
 
     def character(j, c):
@@ -111,20 +118,22 @@ def fast_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, np.ndar
         return _about(random_rotation(rng, 2, rng.uniform(-0.3, 0.3)), c, [0.3, 0.25])
 
     add("2D character, points, bones and a region, bounded biharmonic weights, 10 clusters", "character", 10, [0, 4, 5], character)
-    add("2D character, one cluster (a single rotation)", "character", 1, [0, 4, 5], character)
+    add(CHARACTER_ONE_CLUSTER, "character", 1, [0, 4, 5], character, clockwise)
     add(
-        "2D strip, 3 bones, ends turned 60° apart, 5 clusters",
+        STRIP,
         "strip",
         5,
         [0, 2],
         lambda j, c: np.eye(2, 3) if j == 0 else _about(random_rotation(rng, 2, np.pi / 3), c, [0.0, 0.4]),
+        lambda F: mixed_orientation(F, rng),
     )
     add(
-        "2D disc with two holes, 4 point handles, a single fixed one moved rigidly, 8 clusters",
+        DISC,
         "disc",
         8,
         [int(rng.integers(4))],
         lambda j, c: _about(random_rotation(rng, 2), c, rng.normal(0.0, 0.5, 2)),
+        clockwise,
     )
     add(
         "3D bar twisted by more than 110°, 6 clusters",
@@ -316,14 +325,14 @@ class FastPrecomputeChecks(FunctionChecks):
         for label in (
             "2D character, points, bones and a region, bounded biharmonic weights, 10 clusters",
             "3D bar twisted by more than 110°, 6 clusters",
-            "2D disc with two holes, 4 point handles, a single fixed one moved rigidly, 8 clusters",
+            DISC,
         ):
             V, F, W, clusters, fixed, X = scenes[label]
             X2 = X + rng.normal(0.0, 0.1, X.shape)
             R1, R2 = (_random_local_rotations(rng, V, F, W, clusters, fixed, Y) for Y in (X, X2))
             steps = [_precompute(V, F, W, clusters, fixed), Step("fast_global_step", (Ref(0), R1, X)), Step("fast_global_step", (Ref(0), R2, X2))]
             cases.append(Case(f"{label}: two global steps with one precomputation", steps, {"R": R2, "X": X2}))
-        V, F, W, clusters, fixed, X = scenes["2D strip, 3 bones, ends turned 60° apart, 5 clusters"]
+        V, F, W, clusters, fixed, X = scenes[STRIP]
         R = _random_local_rotations(rng, V, F, W, clusters, fixed, X)
         steps = [_precompute(V, F, W, clusters, fixed), Step("fast_solve", (Ref(0), X), {"iterations": 2}), Step("fast_global_step", (Ref(0), R, X))]
         cases.append(Case("2D strip: a global step after a solve with the same precomputation", steps, {"R": R, "X": X}))
@@ -432,9 +441,9 @@ class FastSolveChecks(FunctionChecks):
         scenes = fast_scenes(rng)
         plans = [
             ("2D character, points, bones and a region, bounded biharmonic weights, 10 clusters", None, 6),
-            ("2D character, one cluster (a single rotation)", "noisy", 3),
-            ("2D strip, 3 bones, ends turned 60° apart, 5 clusters", "wrong fixed rows", 4),
-            ("2D disc with two holes, 4 point handles, a single fixed one moved rigidly, 8 clusters", None, None),
+            (CHARACTER_ONE_CLUSTER, "noisy", 3),
+            (STRIP, "wrong fixed rows", 4),
+            (DISC, None, None),
             ("3D bar twisted by more than 110°, 6 clusters", "wrong fixed rows", 1),
             ("3D bar bent by 90°, one cluster per vertex", None, 5),
         ]

@@ -1,10 +1,16 @@
 """Checks of stage 00 (edges and the Euler–Poincaré formula), and the hidden test meshes.
 
 The mesh helpers here (``relabel``, ``disjoint_union``, ``jittered_grid``,
-``perforated_slab``, ``closed_mesh_with_hole``) are also used by the later stages' checks, so
-every stage draws its hidden meshes the same way: a small mesh from
-``starter.shapes`` with its vertices, triangles and corners shuffled by the
-run's generator, so that no output can be memorized from the handout.
+``perforated_slab``, ``closed_mesh_with_hole``, ``clockwise``, ``mixed_orientation``,
+``similar_copy``, ``unsorted_order``) are also used by the later stages' checks, so every stage draws its
+hidden meshes the same way: a small mesh from ``starter.shapes`` with its
+vertices, triangles and corners shuffled by the run's generator, so that no
+output can be memorized from the handout. The contract fixes no orientation,
+labelling or placement, so the hidden meshes use that freedom: clockwise as well
+as counter-clockwise 2D triangles (whole meshes, single components, or
+triangle by triangle), and copies of a whole problem scaled and moved far from
+the origin. An implementation right on the handout's counter-clockwise meshes
+only loses points.
 """
 
 from __future__ import annotations
@@ -38,6 +44,65 @@ def relabel(V: np.ndarray, F: np.ndarray, rng: np.random.Generator) -> tuple[np.
     shift = rng.integers(0, 3, len(F))
     F = F[np.arange(len(F))[:, None], (np.arange(3) + shift[:, None]) % 3]
     return np.ascontiguousarray(V[order], dtype=np.float64), np.ascontiguousarray(F, dtype=np.int64)
+
+
+def clockwise(F: np.ndarray) -> np.ndarray:
+    """Every triangle with its corners in reverse order: a counter-clockwise 2D mesh becomes clockwise.
+
+    Parameters
+    ----------
+    F : (f, 3) numpy.ndarray of int
+
+    Returns
+    -------
+    (f, 3) numpy.ndarray of int64
+        Same triangles, same corner positions, opposite orientation.
+    """
+    return np.ascontiguousarray(np.asarray(F)[:, ::-1], dtype=np.int64)
+
+
+def mixed_orientation(F: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """About half of the triangles, drawn at random, with their corners in reverse order.
+
+    The contract does not ask for consistently oriented triangles; a mesh read from
+    some exporters has them in either order, and none of its quantities (edges,
+    boundary loops, cotangents, energies) may depend on it.
+
+    Returns
+    -------
+    (f, 3) numpy.ndarray of int64
+    """
+    F = np.array(F, dtype=np.int64)
+    flip = rng.uniform(size=len(F)) < 0.5
+    F[flip] = F[flip][:, ::-1]
+    return F
+
+
+def unsorted_order(rng: np.random.Generator, items) -> np.ndarray:
+    """``items`` (a 1-D array, or a count ``k`` for ``range(k)``) in random order, never ascending when there are two or more.
+
+    Handles in ascending order would hide an implementation that sorts them,
+    e.g. by ``np.unique``.
+    """
+    order = rng.permutation(items)
+    if len(order) > 1 and np.all(np.diff(order) > 0):
+        order = order[::-1]
+    return order
+
+
+def similar_copy(rng: np.random.Generator, d: int, scale: float, distance: float):
+    """A map ``x -> scale · R x + t`` of ``(k, d)`` points: ``R`` a random rotation, ``‖t‖ = distance``.
+
+    Applied to every position of a problem (rest mesh, handle targets) it gives
+    the same problem at another size and place; a rotation, never a
+    reflection, so triangles keep their orientation.
+    """
+    from grader.checks.shape_matching import random_rotation
+
+    R = random_rotation(rng, d)
+    t = rng.normal(size=d)
+    t *= distance / np.linalg.norm(t)
+    return lambda X: scale * np.asarray(X, dtype=np.float64) @ R.T + t
 
 
 def disjoint_union(*meshes: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -112,9 +177,16 @@ def closed_mesh_with_hole(V: np.ndarray, F: np.ndarray, rng: np.random.Generator
 def _topology_meshes(rng: np.random.Generator) -> list[tuple[str, np.ndarray, np.ndarray]]:
     """Closed, bounded, multi-component and higher-genus meshes (small ``starter.shapes`` and course meshes), shuffled."""
     grid = shapes.grid_2d(int(rng.integers(2, 5)), 2)
+    disc = shapes.disc_with_holes(int(rng.integers(1, 4)), 0.03)
     meshes = [
         ("torus", *shapes.torus(n_major=int(rng.integers(8, 14)), n_minor=int(rng.integers(5, 8)))),
-        ("2D disc with holes", *shapes.disc_with_holes(int(rng.integers(1, 4)), 0.03)),
+        ("2D disc with holes", *disc),
+        ("2D disc with holes, clockwise triangles", disc[0], clockwise(disc[1])),
+        (
+            "two 2D components, one clockwise and one counter-clockwise: a disc with holes and a grid",
+            *disjoint_union((disc[0], clockwise(disc[1])), (grid[0] + [3.0, 0.0], grid[1])),
+        ),
+        ("2D grid, each triangle in either orientation", grid[0], mixed_orientation(grid[1], rng)),
         ("sphere", *load_mesh("sphere")),
         ("closed bar", *load_mesh("bar_coarse")),
         ("genus-2 slab", *perforated_slab(2)),
@@ -140,7 +212,7 @@ def _integer_verdict(got, expected, what: str) -> list:
 
 class EdgesChecks(FunctionChecks):
     function = "edges"
-    description = "each undirected edge once, rows sorted, rows in lexicographic order, on closed, bounded and multi-component meshes"
+    description = "each undirected edge once, rows sorted, rows in lexicographic order, on closed, bounded and multi-component meshes, triangles in either orientation"
 
     def cases(self, rng):
         return [Case.call(label, "edges", F) for label, _, F in _topology_meshes(rng)]
@@ -186,7 +258,7 @@ class EulerCharacteristicChecks(FunctionChecks):
 
 class BoundaryLoopCountChecks(FunctionChecks):
     function = "boundary_loop_count"
-    description = "number of boundary loops: 0 on closed meshes, one per hole and per outer boundary otherwise"
+    description = "number of boundary loops: 0 on closed meshes, one per hole and per outer boundary otherwise, whatever the triangles' orientation"
 
     def cases(self, rng):
         return [Case.call(label, "boundary_loop_count", F) for label, _, F in _topology_meshes(rng)]

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from grader.checks.base import Case, FunctionChecks, Verdict, as_array, as_pair, close, verdict
+from grader.checks.meshes import similar_copy
 
 #: Largest ‖RᵀR − I‖ (Frobenius) accepted for an orthogonal matrix.
 ORTHONORMAL_TOL = 1e-8
@@ -54,7 +55,7 @@ def alignment_point_sets(rng: np.random.Generator) -> list[tuple[str, np.ndarray
     Includes noisy rigid copies in 2D and 3D, mirrored copies (the best
     orthogonal map is a reflection), planar and collinear sets (rank-deficient
     covariance), a coincident target, rotations near 180°, zero weights and
-    a far-off origin.
+    a far-off origin, and a whole problem scaled down and moved far away.
     """
     sets = []
 
@@ -64,7 +65,10 @@ def alignment_point_sets(rng: np.random.Generator) -> list[tuple[str, np.ndarray
     P = rng.normal(size=(25, 3))
     sets.append(("3D noisy rotated copy", P, rigid(P, random_rotation(rng, 3)), None))
     P = rng.normal(size=(15, 2))
-    sets.append(("2D weighted, noisy rotated copy", P, rigid(P, random_rotation(rng, 2), 0.05), rng.uniform(0.1, 3.0, 15)))
+    Q, w = rigid(P, random_rotation(rng, 2), 0.05), rng.uniform(0.1, 3.0, 15)
+    sets.append(("2D weighted, noisy rotated copy", P, Q, w))
+    move = similar_copy(rng, 2, 0.01, 50.0)
+    sets.append(("the 2D weighted problem again, scaled by 1/100, turned and moved 50 units away", move(P), move(Q), w))
     P = np.c_[rng.normal(size=(12, 2)), np.zeros(12)]
     sets.append(("planar 3D points (z = 0), rotation by nearly 180°", P, rigid(P, random_rotation(rng, 3, np.pi - 1e-3), 0.0), None))
     P = np.outer(rng.normal(size=9), rng.normal(size=3)) + rng.normal(size=3)

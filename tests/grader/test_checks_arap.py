@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import types
 
+import igl
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -120,8 +121,21 @@ def _swap(R):
     return np.swapaxes(R, -1, -2)
 
 
+def cotangent_weights_of_signed_area(V, F):
+    """½ dot / cross with the signed 2D cross product: right on counter-clockwise triangles only."""
+    V, F = np.asarray(V, float), np.asarray(F)
+    a, b, c = V[F], V[np.roll(F, -1, axis=1)], V[np.roll(F, -2, axis=1)]
+    u, v = b - a, c - a
+    if V.shape[1] == 2:
+        cross = u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+    else:
+        cross = np.linalg.norm(np.cross(u, v), axis=-1)
+    return 0.5 * np.sum(u * v, axis=-1) / cross
+
+
 MISTAKES = {
     "weights: cot instead of ½ cot": ("cotangent_weights", {"cotangent_weights": lambda V, F: 2.0 * ref.cotangent_weights(V, F)}, "C matches ½ cot of each corner's angle"),
+    "weights: signed 2D area (clockwise triangles flip sign)": ("cotangent_weights", {"cotangent_weights": cotangent_weights_of_signed_area}, "C matches ½ cot of each corner's angle"),
     "weights: columns shifted": ("cotangent_weights", {"cotangent_weights": lambda V, F: np.roll(ref.cotangent_weights(V, F), 1, axis=1)}, "C matches ½ cot of each corner's angle"),
     "laplacian: signs flipped": ("cotangent_laplacian", {"cotangent_laplacian": lambda V, F: -ref.cotangent_laplacian(V, F)}, "L matches"),
     "laplacian: dense": ("cotangent_laplacian", {"cotangent_laplacian": lambda V, F: ref.cotangent_laplacian(V, F).toarray()}, "a scipy.sparse matrix"),
@@ -224,3 +238,36 @@ def test_a_students_multi_step_outputs_pass_through_the_kernel_wire(function, tm
     namespace["__deformlab_collect__"](function, str(tmp_path / "fixtures"), str(tmp_path / "outputs"))
     collected = read_outputs(function, tmp_path / "outputs", len(cases))
     assert evaluate(all_checks()[function], cases, collected.cases, expected).fraction == 1.0
+
+
+def test_scenes_have_clockwise_mixed_and_scaled_copies_the_reference_solves_alike():
+    """The orientation, size and place of a hidden problem never change its answer (up to the same similarity)."""
+    from grader.checks.arap import DISC, JITTERED, SCALED, TWO_COMPONENTS, deformation_scenes
+
+    scenes = deformation_scenes(np.random.default_rng(9))
+
+    assert (igl.doublearea(*scenes[DISC][:2]) < 0).all()  # signed for 2D input
+    for label in (JITTERED, TWO_COMPONENTS):
+        area = igl.doublearea(*scenes[label][:2])
+        assert (area < 0).any() and (area > 0).any()
+    V, F, handles, P = scenes["2D strip, right end turned by 90°"]
+    Vs, Fs, hs, Ps = scenes[SCALED]
+    assert np.array_equal(F, Fs) and np.array_equal(handles, hs)
+    U = ref.laplacian_editing(V, F, handles, P)
+    Us = ref.laplacian_editing(Vs, Fs, hs, Ps)
+    # the copy's answer is the same similarity of the original's answer: fit it on the rest positions
+    fit = np.linalg.lstsq(np.c_[V, np.ones(len(V))], Vs, rcond=None)[0]
+    assert np.allclose(np.c_[U, np.ones(len(U))] @ fit, Us, atol=1e-9)
+    assert np.allclose(ref.cotangent_weights(V, F), ref.cotangent_weights(Vs, Fs))
+
+
+def test_a_laplacian_of_signed_area_cotangents_is_told_about_clockwise_triangles():
+    from grader.build.lift import lift
+
+    # the notebook's Laplacian cell calls the student's cotangent_weights
+    notebook = {"cotangent_weights": cotangent_weights_of_signed_area}
+    exec(lift("cotangent_laplacian").source, notebook)
+    result = grade("cotangent_laplacian", cotangent_laplacian=notebook["cotangent_laplacian"])
+    details = [v.detail for c in result.cases for v in c.verdicts if not v.passed]
+    assert any("clockwise mesh" in d and "signed area" in d for d in details)
+    assert not any("clockwise" in d for d in details if "signs are flipped:" in d)

@@ -154,3 +154,17 @@ def test_nan_weights_fail_cleanly():
         outputs.append(CaseOutput(W, None, None))
     result = evaluate(all_checks()["bbw"], cases, outputs, expected)
     assert result.fraction == 0.0 and failed(result) == {"output shape"}
+
+
+def test_hidden_scenes_use_both_orientations_and_a_far_scaled_copy():
+    from grader.checks.bbw import handle_scenes
+
+    scenes = handle_scenes(np.random.default_rng(10))
+    # igl.doublearea is signed for 2D input
+    orientations = {((igl.doublearea(V, F) > 0).any(), (igl.doublearea(V, F) < 0).any()) for V, F, _ in scenes.values() if V.shape[1] == 2}
+    assert orientations == {(True, False), (False, True), (True, True)}
+    V, F, handles = next(s for label, s in scenes.items() if "scaled by 1/100" in label)
+    assert np.linalg.norm(V.mean(axis=0)) > 9.0 and np.ptp(V, axis=0).max() < 0.04
+    # The copy's weights are those of the same problem at unit size near the origin: the verdicts stay comparable.
+    b, bc = ref.handle_constraints(handles)
+    assert np.allclose(ref.bbw(V, F, b, bc), ref.bbw((V - V.mean(axis=0)) * 100.0, F, b, bc), atol=1e-8)

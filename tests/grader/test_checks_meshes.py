@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import igl
 import numpy as np
 import pytest
 
 import reference.meshes as ref
 from grader.checks import check_namespace
-from grader.checks.meshes import closed_mesh_with_hole, disjoint_union, perforated_slab, relabel
+from grader.checks.meshes import _topology_meshes, clockwise, closed_mesh_with_hole, disjoint_union, mixed_orientation, perforated_slab, relabel, similar_copy, unsorted_order
 from starter import shapes
 
 
@@ -39,6 +40,19 @@ def edges_unordered(F):
     return np.unique(np.sort(_half_edges(F), axis=1), axis=0)[::-1]
 
 
+def boundary_loops_of_directed_half_edges(F):
+    """Loops traced along the half-edges whose reverse is missing: right on consistently oriented meshes only."""
+    half_edges = {(int(a), int(b)) for a, b in _half_edges(F)}
+    following = {a: b for a, b in half_edges if (b, a) not in half_edges}
+    loops = 0
+    while following:
+        start, vertex = following.popitem()
+        while vertex != start and vertex in following:
+            vertex = following.pop(vertex)
+        loops += 1
+    return loops
+
+
 @pytest.mark.parametrize(
     "function, implementation, verdict",
     [
@@ -50,6 +64,7 @@ def edges_unordered(F):
         ("boundary_loop_count", lambda F: int(ref.boundary_loop_count(F) > 0), "boundary loop count value"),
         ("genus", lambda V, F: (2 - ref.boundary_loop_count(F) - ref.euler_characteristic(V, F)) // 2, "genus value"),
         ("genus", lambda V, F: (2 - ref.euler_characteristic(V, F)) // 2, "genus value"),
+        ("boundary_loop_count", boundary_loops_of_directed_half_edges, "boundary loop count value"),
     ],
     ids=[
         "edges: rows not sorted",
@@ -60,6 +75,7 @@ def edges_unordered(F):
         "boundary: at most one loop",
         "genus: one component assumed",
         "genus: boundaries ignored",
+        "boundary: half-edges without a reverse twin, as if all triangles were oriented alike",
     ],
 )
 def test_realistic_mistakes_fail(function, implementation, verdict):
@@ -100,3 +116,41 @@ def test_relabel_keeps_each_triangle_and_its_orientation():
         return sorted(out)
 
     assert oriented_triangles(V, F) == oriented_triangles(V2, F2)
+
+
+def test_hidden_2d_meshes_come_clockwise_counter_clockwise_and_mixed():
+    orientations = set()
+    for label, V, F in _topology_meshes(np.random.default_rng(6)):
+        if V.shape[1] == 2:
+            area = igl.doublearea(V, F)  # signed for 2D input
+            orientations.add("mixed" if (area > 0).any() and (area < 0).any() else "ccw" if (area > 0).all() else "cw")
+    assert orientations == {"ccw", "cw", "mixed"}
+
+
+def test_orientation_helpers_keep_the_triangles_and_reverse_what_they_say():
+    rng = np.random.default_rng(7)
+    V, F = shapes.grid_2d(4, 3)
+    assert (igl.doublearea(V, clockwise(F)) < 0).all()
+    mixed = mixed_orientation(F, rng)
+    flipped = igl.doublearea(V, mixed) < 0
+    assert 0 < flipped.sum() < len(F)
+    assert np.array_equal(np.sort(mixed, axis=1), np.sort(F, axis=1))
+
+
+def test_a_similar_copy_scales_distances_and_moves_the_centroid():
+    rng = np.random.default_rng(8)
+    V, F = shapes.grid_2d(3, 3)
+    move = similar_copy(rng, 2, 0.01, 20.0)
+    W = move(V)
+    assert (igl.doublearea(W, F) > 0).all()  # turned, never mirrored
+    assert np.allclose(np.linalg.norm(W[1:] - W[0], axis=1), 0.01 * np.linalg.norm(V[1:] - V[0], axis=1))
+    assert np.isclose(np.linalg.norm(move(np.zeros((1, 2)))), 20.0)
+
+
+def test_handle_orders_are_never_ascending():
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        for items in (2, 3, np.array([0, 4, 5]), np.array([7, 9])):
+            order = unsorted_order(rng, items)
+            assert not np.all(np.diff(order) > 0)
+            assert sorted(order.tolist()) == (list(range(items)) if np.ndim(items) == 0 else sorted(items.tolist()))

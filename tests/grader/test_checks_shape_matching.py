@@ -113,3 +113,14 @@ def test_nan_in_a_pair_fails_cleanly():
     outputs = [CaseOutput((np.full_like(R, np.nan), t), None, None) for R, t in (wire(e) for e in expected)]
     result = evaluate(checks, cases, outputs, expected)
     assert result.fraction == 0.0 and failed(result) == {"output shape"}
+
+
+def test_the_scaled_and_moved_copy_has_the_original_answer_up_to_the_same_similarity():
+    from grader.checks.shape_matching import alignment_objective, alignment_point_sets
+
+    sets = {label: (P, Q, w) for label, P, Q, w in alignment_point_sets(np.random.default_rng(12))}
+    original = sets["2D weighted, noisy rotated copy"]
+    copy = sets["the 2D weighted problem again, scaled by 1/100, turned and moved 50 units away"]
+    assert np.linalg.norm(copy[0].mean(axis=0)) > 45.0
+    best, best_copy = (alignment_objective(*ref.orthogonal_align(P, Q, w), P, Q, w) for P, Q, w in (original, copy))
+    assert np.isclose(best_copy, 1e-4 * best, rtol=1e-6)
