@@ -22,6 +22,7 @@ from grader.harness.fixtures import write_fixtures
 from grader.harness.outputs import OutputError, read_outputs
 from grader.pipeline.execute import ExecuteOptions, execute
 from grader.pipeline.feedback import feedback_html
+from grader.pipeline.neutralize import neutralize
 from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, verify
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
@@ -182,6 +183,7 @@ def grade_unit(spec: UnitSpec) -> dict:
         reasons = [f"cell {i + 1}: {why}" for i, why in sorted(run.cell_failures.items())]
         status = "grader-error" if broken else "graded" if not run.events else "graded-with-incidents"
         reasons += list(broken.values())
+        neutralize(sanitized.nb, source)  # last step before disk: nothing active reaches a TA's browser
         return _result(
             spec,
             status,
