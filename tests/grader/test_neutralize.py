@@ -1,7 +1,7 @@
 """What reaches a TA's browser: executed notebooks keep no active content (grader/pipeline/neutralize.py).
 
-The pages are rendered exactly as formgrader renders a submission (nbconvert's HTMLExporter with
-nbgrader's ``formgrade`` template) and parsed: a neutralized attacker's page may hold no script,
+The pages are rendered exactly as formgrader renders a submission and ``nbgrader generate_feedback``
+a feedback page (nbconvert's HTMLExporter with nbgrader's ``formgrade`` or ``feedback`` template) and parsed: a neutralized attacker's page may hold no script,
 event handler, frame or script link that the honest student's page does not.
 """
 
@@ -79,13 +79,21 @@ class Active(HTMLParser):
             self._script = None
 
 
-def formgrade_page(nb) -> str:
-    """The submission page formgrader serves for ``nb``."""
+def nbgrader_page(nb, template: str = "formgrade") -> str:
+    """The page nbgrader makes of ``nb``: formgrader's submission page, or ``generate_feedback``'s ``feedback``."""
     config = Config()
-    config.HTMLExporter.template_name = "formgrade"
+    config.HTMLExporter.template_name = template
     config.HTMLExporter.extra_template_basedirs = [handlers.template_path]
+    # generate_feedback inlines bootstrap's CSS from formgrader's static files
+    config.HTMLExporter.extra_template_paths = [str(Path(handlers.static_path) / "node_modules" / "bootstrap" / "dist" / "css")]
     resources = {"assignment_id": "deformation", "notebook_id": "00_meshes", "submission_id": "s1", "index": 0,
-                 "total": 1, "base_url": "", "student": "x", "last_name": None, "first_name": None, "notebook_path": "x"}
+                 "total": 1, "base_url": "", "student": "x", "last_name": None, "first_name": None, "notebook_path": "x",
+                 "nbgrader": {"notebook": "00_meshes", "score": 0, "max_score": 11, "late_penalty": 0}}
+    if template == "feedback":  # nbgrader's GetGrades puts each graded cell's score in its metadata
+        nb = copy.deepcopy(nb)
+        for cell in nb.cells:
+            if (cell.metadata.get("nbgrader") or {}).get("grade"):
+                cell.metadata.nbgrader["score"] = 0
     return HTMLExporter(config=config).from_notebook_node(nb, resources=resources)[0]
 
 
@@ -127,7 +135,7 @@ def hostile_outputs() -> list:
     ]
 
 
-# The vectors of attacked_notebook that nbconvert's formgrade page makes live (the others it escapes).
+# The vectors of attacked_notebook that nbgrader's pages make live (the others it escapes).
 LIVE_VECTORS = {"html-script", "javascript", "markdown-output", "repr-html", "answer-img", "answer-script",
                 "answer-iframe", "click-answer-link", "click-answer-entity", "markdown-svg", "grade-id"}
 
@@ -150,16 +158,17 @@ def attacked_notebook(source) -> nbformat.NotebookNode:
     return nb
 
 
-def test_an_attackers_formgrade_page_has_no_active_content_beyond_an_honest_students(source):
+@pytest.mark.parametrize("template", ["formgrade", "feedback"])
+def test_an_attackers_nbgrader_page_has_no_active_content_beyond_an_honest_students(source, template):
     honest = student_notebook(source, {})
     neutralize(honest, source)
-    baseline = Active(formgrade_page(honest)).found
+    baseline = Active(nbgrader_page(honest, template)).found
     raw = attacked_notebook(source)
     # The test can fail: unneutralized, the page is full of the student's scripts.
-    unsafe = Active(formgrade_page(raw)).found - baseline
+    unsafe = Active(nbgrader_page(raw, template)).found - baseline
     assert vectors(unsafe) == LIVE_VECTORS, sorted(unsafe)
     notes = neutralize(raw, source)
-    extra = Active(formgrade_page(raw)).found - baseline
+    extra = Active(nbgrader_page(raw, template)).found - baseline
     assert not extra, "\n".join(sorted(extra))
     assert notes, "what was removed is reported"
 
