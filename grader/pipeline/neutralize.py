@@ -155,10 +155,11 @@ def neutralize(nb: nbformat.NotebookNode, source: nbformat.NotebookNode) -> list
     Notes
     -----
     Code cells keep only ``stream`` and ``error`` outputs and the ``text/plain``
-    and valid ``image/png`` parts of display outputs, no output metadata, at most
-    :data:`MAX_OUTPUTS_PER_CELL` outputs and :data:`MAX_CELL_OUTPUT_BYTES` per
-    cell and :data:`MAX_OUTPUTS_PER_NOTEBOOK` outputs and
-    :data:`MAX_NOTEBOOK_OUTPUT_BYTES` in all. A cell's metadata becomes its source
+    and valid ``image/png`` parts of display outputs, no output metadata, and
+    only their first outputs within :data:`MAX_OUTPUTS_PER_CELL` outputs and
+    :data:`MAX_CELL_OUTPUT_BYTES` per cell and :data:`MAX_OUTPUTS_PER_NOTEBOOK`
+    outputs and :data:`MAX_NOTEBOOK_OUTPUT_BYTES` in all (a line says how many
+    were dropped). A cell's metadata becomes its source
     cell's (points, grade ids, locks), or nothing. Markdown and raw cells that are
     not the instructor's text are escaped; their attachments keep only PNG pictures. Notebook
     metadata (and so any widget state) is the source's.
@@ -206,6 +207,9 @@ def neutralize(nb: nbformat.NotebookNode, source: nbformat.NotebookNode) -> list
         cell["execution_count"] = count if isinstance(count, int) and not isinstance(count, bool) else None
         outputs, cell_bytes, removed, dropped = [], 0, [], 0
         for out in cell.get("outputs", []):
+            if dropped:  # the cell keeps a prefix of its outputs; the rest are not even looked at
+                dropped += 1
+                continue
             safe, gone = _safe_output(out)
             removed += gone
             if safe is None:
