@@ -35,8 +35,6 @@ _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 _CHAR_REF = re.compile(r"&(?=#[0-9]|#[xX][0-9a-fA-F]|[A-Za-z][A-Za-z0-9]*;)")
 # A script URL scheme, also written ``javascript\:`` (a markdown backslash escape); nbconvert keeps such links.
 _SCRIPT_SCHEME = re.compile(r"\b((?:java|vb|live)script)(?=[ \t]*\\?:)", re.IGNORECASE)
-# ``attachment:NAME`` in a markdown image: nbconvert fails the whole page when NAME is not attached.
-_ATTACHMENT_REF = re.compile(r"attachment(\\?:)([^\s)]*)")
 _ATTACHMENT_NAME = re.compile(r"[A-Za-z0-9._-]{1,100}")
 
 
@@ -115,7 +113,11 @@ def _inert_markdown(text: str, attached: set[str]) -> str:
     text = _CHAR_REF.sub("\uff06", text)
     text = text.replace("<", "&lt;")
     text = _SCRIPT_SCHEME.sub(r"\1-blocked", text)
-    return _ATTACHMENT_REF.sub(lambda m: m[0] if m[2] in attached else f"attachment-removed{m[1]}{m[2]}", text)
+    # nbconvert fails the whole page on an image ``attachment:NAME`` whose NAME is not attached. Only a kept
+    # name that ends the link target is left alone; the rename consumes no name, so nested references count too.
+    kept = "|".join(re.escape(name) for name in sorted(attached))
+    unknown = r"attachment(\\?:)" + (rf"(?!(?:{kept})(?:[\s)]|\Z))" if kept else "")
+    return re.sub(unknown, r"attachment-removed\1", text)
 
 
 def _png_attachments(value) -> dict:

@@ -40,7 +40,7 @@ ATTACKS = ["displays_script_in_definition_cell", "displays_svg_widget_and_fake_p
            "cell_metadata_injects_html"]
 HONEST = "honest_student"
 SEED = 20240611
-SETTLE_S = 2.0  # after the page is idle; the control's scripts report within a few hundred ms
+SETTLE_S = 1.0  # after the page is idle (no request for 0.5 s); the control's scripts have reported by then
 
 
 @dataclass

@@ -255,7 +255,7 @@ FRAGMENTS = [
     "![a](attachment:", "attachment:", "a.png", "b.svg", "%20", "&amp;", "&amp;#58;", "&#115;", "&colon;", "%3A",
     "[x](javascript&#58;alert(1))", "[x](java&#115;cript:alert(1))", "[x](javascript\\:alert(1))",
     "[x](javascript&amp;#58;alert(1))", "[r]: javascript&colon;alert(1)\n\n[r]", "![a](attachment:b.svg)",
-    "![a](attachment:a.png'x)", "(1)",
+    "![a](attachment:a.png'x)", "(1)", "![a](attachment:a.png)", "(", "![a](attachment:a.png",
 ]
 
 
