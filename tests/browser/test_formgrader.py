@@ -5,7 +5,7 @@ A private course (its own ``assignments/`` with the checkout's ``nbgrader_config
 ``grade_class``; formgrader (nbgrader's server extension in ``jupyter server``, started in the
 course folder as a TA would) serves it on 127.0.0.1. The TA opens each attacker's submission page;
 no script of the student's may run: no dialog, and every grade, manual score and extra credit in the
-gradebook is unchanged. The positive control puts the same attacker's notebook executed *without*
+gradebook is unchanged; the page shows each cell's points as the instructor set them. The positive control puts the same attacker's notebook executed *without*
 ``neutralize`` where formgrader reads it: the same page then runs the student's scripts, which give
 that submission full manual marks plus extra credit, so this test can fail.
 """
@@ -13,6 +13,7 @@ that submission full manual marks plus extra credit, so this test can fail.
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import sys
 import time
@@ -134,13 +135,13 @@ def log_in(browser, server) -> None:
     page.close()
 
 
-def open_as_ta(browser, server, db_url: str, sid: str, shots: Path, tag: str) -> tuple[list[str], Path]:
+def open_as_ta(browser, server, db_url: str, sid: str, shots: Path, tag: str) -> tuple[list[str], list[float], Path]:
     """Open ``sid``'s submission in formgrader and wait until it is shown and idle.
 
     Returns
     -------
-    (list of str, Path)
-        The messages of the dialogs the page opened, and a screenshot.
+    (list of str, list of float, Path)
+        The messages of the dialogs the page opened, the points shown beside each score box, and a screenshot.
     """
     page = browser.new_page()
     dialogs: list[str] = []
@@ -151,10 +152,11 @@ def open_as_ta(browser, server, db_url: str, sid: str, shots: Path, tag: str) ->
     page.wait_for_timeout(SETTLE_S * 1000)
     shot = shots / f"{sid}-{tag}.png"
     page.screenshot(path=str(shot), full_page=True)
-    shown = page.locator("input.score").count()
+    boxes = page.eval_on_selector_all("input.score", "boxes => boxes.map(box => box.parentElement.textContent)")
+    points = [float(p) for text in boxes for p in re.findall(r"/\s*([0-9.]+)", text)]
     page.close()
-    assert shown >= 1, f"formgrader shows no score box for {sid}: {shot}\n{server.log_tail()}"
-    return dialogs, shot
+    assert points, f"formgrader shows no score box for {sid}: {shot}\n{server.log_tail()}"
+    return dialogs, points, shot
 
 
 def test_the_class_was_graded_with_every_attacker_scored_as_an_honest_student(course):
@@ -173,11 +175,14 @@ def test_opening_an_attackers_submission_in_formgrader_runs_none_of_its_scripts(
     started = time.monotonic()
     log_in(browser, formgrader)
     before = gradebook(course.db_url)
+    source = nbformat.read(course.paths.source_notebooks()[0], as_version=4)
+    source_points = [float(c.metadata.nbgrader["points"]) for c in source.cells if (c.metadata.get("nbgrader") or {}).get("grade")]
     attackers = [student_id(load_entry(HOSTILE / f"{name}.py")) for name in ATTACKS]
     lines = []
     for sid in attackers:
-        dialogs, shot = open_as_ta(browser, formgrader, course.db_url, sid, workdir, "neutralized")
+        dialogs, points, shot = open_as_ta(browser, formgrader, course.db_url, sid, workdir, "neutralized")
         assert dialogs == [], f"{sid}'s page opened dialogs {dialogs}: {shot}"
+        assert points == source_points, f"{sid}'s page shows points {points}, the notebook has {source_points}: {shot}"
         assert gradebook(course.db_url) == before, f"opening {sid}'s submission changed the gradebook: {shot}"
     lines.append(f"  {len(attackers)} attackers' submissions opened: no dialog, gradebook unchanged "
                  f"({len(before)} grades and comments)")
@@ -190,7 +195,7 @@ def test_opening_an_attackers_submission_in_formgrader_runs_none_of_its_scripts(
     for sid in attackers:
         raw = unit.grade_unit(specs[sid])
         course.autograded(sid).write_text(raw["autograded_notebook"])
-        dialogs, shot = open_as_ta(browser, formgrader, course.db_url, sid, workdir, "control")
+        dialogs, _, shot = open_as_ta(browser, formgrader, course.db_url, sid, workdir, "control")
         after = gradebook(course.db_url)
         changed = {key for key in after if after[key] != before[key]}
         assert dialogs and all(d.startswith("deformlab-attack:") for d in dialogs), f"{sid}: no script ran: {shot}"
