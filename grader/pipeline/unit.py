@@ -23,6 +23,7 @@ from grader.harness.outputs import OutputError, read_outputs
 from grader.pipeline.execute import ExecuteOptions, execute
 from grader.pipeline.feedback import feedback_html
 from grader.pipeline.guard import GraderLimitExceeded, grader_limits, peak_rss_bytes, reset_peak_rss
+from grader.pipeline.neutralize import neutralize
 from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, verify
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
@@ -203,7 +204,8 @@ def _grade_in(ws, spec: UnitSpec, source, sanitized, cells, started: float) -> d
     reasons = [f"cell {i + 1}: {why}" for i, why in sorted(run.cell_failures.items())]
     status = "grader-error" if broken else "graded" if not run.events else "graded-with-incidents"
     reasons += list(broken.values())
-    messages = spec.notes + sanitized.notes + reasons + run.events
+    notes = spec.notes + sanitized.notes + neutralize(sanitized.nb, source)  # nothing active reaches a TA's browser
+    messages = notes + reasons + run.events
     try:
         with grader_limits():
             feedback = feedback_html(spec, results, messages)
@@ -215,7 +217,7 @@ def _grade_in(ws, spec: UnitSpec, source, sanitized, cells, started: float) -> d
         tests,
         reasons,
         started,
-        notes=spec.notes + sanitized.notes,
+        notes=notes,
         events=run.events,
         peak_rss_bytes=run.peak_rss_bytes,
         execution_s=round(run.seconds, 3),

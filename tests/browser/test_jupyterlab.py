@@ -2,23 +2,16 @@
 skinning demo run all their cells, show no error and show the rendered mesh; dragging a bone's tip
 in the demo's picture turns that bone, and dragging a slider redraws the character.
 
-The browser is Debian's ``/usr/bin/chromium`` driven by the ``playwright`` package's bundled driver
-(never a downloaded browser); the test skips where either is missing. JupyterLab listens on
-127.0.0.1 only, with a random token, on a temporary folder; screenshots are saved under the
-fixture's temporary folder and named in every assertion message.
+The browser and the server are conftest.py's (Debian's Chromium; loopback, random token); JupyterLab
+serves a temporary folder; screenshots are saved under the fixture's temporary folder and named in
+every assertion message.
 """
 
 from __future__ import annotations
 
 import io
-import os
 import re
-import secrets
-import socket
-import subprocess
-import sys
 import time
-import urllib.request
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -30,13 +23,10 @@ from PIL import Image
 from starter.meshes import load_handles, load_mesh
 from starter.skinning_widget import SkinRenderer
 
-CHROMIUM = Path("/usr/bin/chromium")
+from .conftest import CHROMIUM, NO_CHROMIUM, Server, jupyter_env, jupyter_server
+
 if not CHROMIUM.is_file():
-    pytest.skip(
-        f"Debian's chromium is not installed ({CHROMIUM} is missing): `make test` installs it when run as root "
-        "(apt-get install chromium chromium-driver)",
-        allow_module_level=True,
-    )
+    pytest.skip(NO_CHROMIUM, allow_module_level=True)
 sync_api = pytest.importorskip("playwright.sync_api", reason="the playwright package (the dev extra) is not installed")
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(300)]
@@ -44,11 +34,6 @@ pytestmark = [pytest.mark.slow, pytest.mark.timeout(300)]
 ROOT = Path(__file__).resolve().parents[2]
 RELEASE_NOTEBOOK = "05_lbs"
 DEMO = "demo_skinning"
-# Without the background-networking flags Chromium keeps calling home, which the closed network refuses.
-FLAGS = [
-    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-]
 # JupyterLab settings for a quiet, deterministic page: no news or update toasts; every cell in the DOM.
 SETTINGS = {
     "@jupyterlab/apputils-extension/notification.jupyterlab-settings": '{"fetchNews": "false", "checkForUpdates": false}',
@@ -66,14 +51,8 @@ RUN_TIMEOUT_MS = 120_000
 
 
 @dataclass
-class Lab:
-    url: str
-    token: str
-    root: Path
-    log: Path
-
-    def log_tail(self, lines: int = 15) -> str:
-        return "\n".join(self.log.read_text(errors="replace").splitlines()[-lines:])
+class Lab(Server):
+    root: Path = Path()
 
 
 @pytest.fixture(scope="module")
@@ -101,77 +80,21 @@ def fill(root: Path, workdir: Path) -> None:
     nbformat.write(demo_notebook(course), root / f"{DEMO}.ipynb")
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture(scope="module")
 def lab(workdir):
     """JupyterLab on 127.0.0.1 serving :func:`fill`'s notebooks with pictures on, fresh settings and
     workspaces; shut down afterwards."""
     lab_root = workdir / "served"
     lab_root.mkdir()
-    token, port = secrets.token_hex(16), _free_port()
     for name, text in SETTINGS.items():
         path = workdir / "settings" / name
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text)
-    env = {k: v for k, v in os.environ.items() if k not in ("DEFORMLAB_NO_PLOTS", "DEFORMLAB_PLOT_BACKEND")}
-    env.update(
-        JUPYTERLAB_SETTINGS_DIR=str(workdir / "settings"),
-        JUPYTERLAB_WORKSPACES_DIR=str(workdir / "workspaces"),
-        JUPYTER_CONFIG_DIR=str(workdir / "config"),
-        JUPYTER_RUNTIME_DIR=str(workdir / "runtime"),
-        PYTHONPATH=os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])),
-    )
-    log = workdir / "jupyterlab.log"
-    command = [
-        sys.executable, "-m", "jupyter", "lab", "--no-browser", "--allow-root",
-        f"--ServerApp.token={token}", "--ServerApp.ip=127.0.0.1", f"--ServerApp.port={port}",
-        "--ServerApp.port_retries=0", f"--ServerApp.root_dir={lab_root}",
-        "--LabApp.news_url=None", "--LabApp.check_for_updates_class=jupyterlab.handlers.announcements.NeverCheckForUpdate",
-    ]
-    with open(log, "wb") as out:
-        server = subprocess.Popen(command, env=env, stdout=out, stderr=subprocess.STDOUT, cwd=lab_root)
-    lab = Lab(f"http://127.0.0.1:{port}", token, lab_root, log)
-    try:
-        fill(lab_root, workdir)  # while the server starts
-        deadline = time.monotonic() + 90
-        while True:
-            if server.poll() is not None:
-                pytest.fail(f"JupyterLab exited with code {server.returncode}:\n{lab.log_tail()}")
-            try:
-                with urllib.request.urlopen(f"{lab.url}/api/status?token={token}", timeout=5) as answer:
-                    if answer.status == 200:
-                        break
-            except OSError:
-                pass
-            if time.monotonic() > deadline:
-                pytest.fail(f"JupyterLab did not answer within 90 s:\n{lab.log_tail()}")
-            time.sleep(0.5)
-        yield lab
-    finally:
-        server.terminate()  # the server shuts its kernels down on SIGTERM
-        try:
-            server.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            server.kill()
-            server.wait()
-
-
-@pytest.fixture(scope="module")
-def browser(workdir):
-    with sync_api.sync_playwright() as playwright:
-        context = playwright.chromium.launch_persistent_context(
-            str(workdir / "chromium-profile"), executable_path=str(CHROMIUM), headless=True, args=FLAGS,
-            viewport={"width": 1400, "height": 1000},
-        )
-        try:
-            yield context
-        finally:
-            context.close()
+    env = jupyter_env(workdir)
+    env.update(JUPYTERLAB_SETTINGS_DIR=str(workdir / "settings"), JUPYTERLAB_WORKSPACES_DIR=str(workdir / "workspaces"))
+    args = ["--LabApp.news_url=None", "--LabApp.check_for_updates_class=jupyterlab.handlers.announcements.NeverCheckForUpdate"]
+    with jupyter_server("lab", lab_root, workdir / "jupyterlab.log", env, args, while_starting=lambda: fill(lab_root, workdir)) as server:
+        yield Lab(server.url, server.token, server.log, lab_root)
 
 
 def run_all_cells(page, lab: Lab, name: str, shots: Path):
