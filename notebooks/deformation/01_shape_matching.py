@@ -92,6 +92,30 @@ plotting.show_points(P, Q, title="source P and target Q")
 # are $1$. One line of numpy does it (a product with `@`, or `np.average`).
 
 # %% deformlab={"solution": "centroid"}
+import numpy as np
+
+
+def centroid(P, w=None):
+    """The weighted mean of a point set.
+
+    Parameters
+    ----------
+    P : (k, d) array_like of float
+        Points.
+    w : (k,) array_like of float, optional
+        Non-negative weights, not all zero; all ones by default.
+
+    Returns
+    -------
+    p_bar : (d,) numpy.ndarray
+        ``Σ w_i p_i / Σ w_i``.
+    """
+    ### BEGIN SOLUTION
+    P = np.asarray(P, dtype=float)
+    w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
+    w = w / np.sum(w)  # dividing first keeps very large or very small weights in range
+    return w @ P
+    ### END SOLUTION
 
 # %% deformlab={"tests": "centroid", "points": 2}
 _P = np.array([[0.0, 0.0], [4.0, 0.0], [0.0, 2.0], [4.0, 2.0]])
@@ -143,6 +167,31 @@ assert np.allclose(_c, [3.0, 0.0]), (
 # the transpose of $S$ is the covariance of the reverse problem, mapping $Q$ to $P$.
 
 # %% deformlab={"solution": "covariance_matrix"}
+import numpy as np
+
+
+def covariance_matrix(P, Q, w=None):
+    """The weighted covariance ``S = Σ w_i (p_i - p̄)(q_i - q̄)ᵀ`` of two corresponding point sets.
+
+    Parameters
+    ----------
+    P, Q : (k, d) array_like of float
+        Source and target points, row ``i`` of ``P`` corresponding to row ``i`` of ``Q``.
+    w : (k,) array_like of float, optional
+        Non-negative weights; all ones by default. ``p̄`` and ``q̄`` are the weighted centroids.
+
+    Returns
+    -------
+    S : (d, d) numpy.ndarray
+    """
+    ### BEGIN SOLUTION
+    P, Q = np.asarray(P, dtype=float), np.asarray(Q, dtype=float)
+    w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
+    P_centred = P - centroid(P, w)
+    Q_centred = Q - centroid(Q, w)
+    # Σ_i w_i p̃_i q̃_iᵀ as one matrix product: (w_i p̃_i) as columns times q̃_i as rows
+    return (w[:, None] * P_centred).T @ Q_centred
+    ### END SOLUTION
 
 # %% deformlab={"tests": "covariance_matrix", "points": 3}
 _P = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 2.0], [0.0, -2.0]])
@@ -216,6 +265,26 @@ assert np.allclose(_S, 2 * _expected), (
 # Here, return $\tilde V U^\top$ as it is.
 
 # %% deformlab={"solution": "optimal_orthogonal"}
+import numpy as np
+
+
+def optimal_orthogonal(S):
+    """The orthogonal matrix maximizing ``tr(R S)`` (it may be a reflection).
+
+    Parameters
+    ----------
+    S : (d, d) array_like of float
+        A covariance matrix, ``S = Ũ Σ Ṽᵀ`` its SVD.
+
+    Returns
+    -------
+    R : (d, d) numpy.ndarray
+        ``R = Ṽ Ũᵀ``.
+    """
+    ### BEGIN SOLUTION
+    U_tilde, sigma, V_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))  # S = Ũ Σ Ṽᵀ
+    return V_tilde_T.T @ U_tilde.T  # R = Ṽ Ũᵀ
+    ### END SOLUTION
 
 # %% deformlab={"tests": "optimal_orthogonal", "points": 3}
 _S = np.array([[0.0, 2.0], [-8.0, 0.0]])  # the covariance of the 90-degree example above
@@ -254,6 +323,28 @@ assert np.allclose(_R, np.diag([1.0, 1.0, -1.0]), atol=1e-10), (
 # Use your three functions.
 
 # %% deformlab={"solution": "orthogonal_align"}
+def orthogonal_align(P, Q, w=None):
+    """The orthogonal map and translation that best move ``P`` onto ``Q``.
+
+    Parameters
+    ----------
+    P, Q : (k, d) array_like of float
+        Corresponding source and target points.
+    w : (k,) array_like of float, optional
+        Non-negative weights; all ones by default.
+
+    Returns
+    -------
+    R : (d, d) numpy.ndarray
+        Orthogonal (possibly a reflection).
+    t : (d,) numpy.ndarray
+        Together minimizing ``Σ w_i ‖R p_i + t - q_i‖²``.
+    """
+    ### BEGIN SOLUTION
+    R = optimal_orthogonal(covariance_matrix(P, Q, w))
+    t = centroid(Q, w) - R @ centroid(P, w)  # the best t for any fixed R
+    return R, t
+    ### END SOLUTION
 
 # %% deformlab={"tests": "orthogonal_align", "points": 3}
 _P = np.random.default_rng(2).normal(size=(10, 3))

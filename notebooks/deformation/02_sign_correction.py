@@ -57,8 +57,32 @@ def rotation_3d(axis, angle):
 # `centroid(P, w=None)` returns the weighted mean $\bar p = \sum_i w_i p_i / \sum_i w_i$, shape `(d,)`.
 
 # %% deformlab={"solution": "centroid"}
+import numpy as np
 
-# %% deformlab={"tests": "centroid", "points": 1}
+
+def centroid(P, w=None):
+    """The weighted mean of a point set.
+
+    Parameters
+    ----------
+    P : (k, d) array_like of float
+        Points.
+    w : (k,) array_like of float, optional
+        Non-negative weights, not all zero; all ones by default.
+
+    Returns
+    -------
+    p_bar : (d,) numpy.ndarray
+        ``Σ w_i p_i / Σ w_i``.
+    """
+    ### BEGIN SOLUTION
+    P = np.asarray(P, dtype=float)
+    w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
+    w = w / np.sum(w)  # dividing first keeps very large or very small weights in range
+    return w @ P
+    ### END SOLUTION
+
+# %% deformlab={"tests": "centroid"}
 _P = np.array([[0.0, 0.0], [4.0, 0.0], [0.0, 2.0], [4.0, 2.0]])
 _c = centroid(_P)
 assert np.shape(_c) == (2,) and np.allclose(_c, [2.0, 1.0]), (
@@ -75,8 +99,33 @@ assert np.allclose(_c, [3.0, 0.0]), (
 # shape `(d, d)`, with the weighted centroids.
 
 # %% deformlab={"solution": "covariance_matrix"}
+import numpy as np
 
-# %% deformlab={"tests": "covariance_matrix", "points": 1}
+
+def covariance_matrix(P, Q, w=None):
+    """The weighted covariance ``S = Σ w_i (p_i - p̄)(q_i - q̄)ᵀ`` of two corresponding point sets.
+
+    Parameters
+    ----------
+    P, Q : (k, d) array_like of float
+        Source and target points, row ``i`` of ``P`` corresponding to row ``i`` of ``Q``.
+    w : (k,) array_like of float, optional
+        Non-negative weights; all ones by default. ``p̄`` and ``q̄`` are the weighted centroids.
+
+    Returns
+    -------
+    S : (d, d) numpy.ndarray
+    """
+    ### BEGIN SOLUTION
+    P, Q = np.asarray(P, dtype=float), np.asarray(Q, dtype=float)
+    w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
+    P_centred = P - centroid(P, w)
+    Q_centred = Q - centroid(Q, w)
+    # Σ_i w_i p̃_i q̃_iᵀ as one matrix product: (w_i p̃_i) as columns times q̃_i as rows
+    return (w[:, None] * P_centred).T @ Q_centred
+    ### END SOLUTION
+
+# %% deformlab={"tests": "covariance_matrix"}
 _P = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 2.0], [0.0, -2.0]])
 _Q = _P @ rotation_2d(np.pi / 2).T
 _S = covariance_matrix(_P + [5.0, -1.0], _Q + [10.0, 3.0])
@@ -193,6 +242,32 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
 # the singular values in decreasing order, so the smallest is the last.
 
 # %% deformlab={"solution": "optimal_rotation"}
+import numpy as np
+
+
+def optimal_rotation(S):
+    """The rotation maximizing ``tr(R S)``, for one matrix or a stack of them.
+
+    Parameters
+    ----------
+    S : (d, d) or (k, d, d) array_like of float
+        Covariance matrix or matrices, ``S = Ũ Σ Ṽᵀ``.
+
+    Returns
+    -------
+    R : numpy.ndarray, the shape of ``S``
+        ``R = Ṽ diag(1, …, 1, det(Ṽ Ũᵀ)) Ũᵀ``: orthogonal with ``det R = +1``.
+    """
+    ### BEGIN SOLUTION
+    # np.linalg.svd and det act on the last two axes, so one code path serves (d, d) and (k, d, d).
+    U_tilde, sigma, V_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))
+    V_tilde = np.swapaxes(V_tilde_T, -1, -2).copy()
+    U_tilde_T = np.swapaxes(U_tilde, -1, -2)
+    sign = np.where(np.linalg.det(V_tilde @ U_tilde_T) < 0, -1.0, 1.0)  # -1 where Ṽ Ũᵀ is a reflection
+    # Flip the singular vector of the smallest singular value (numpy's last column): the cheapest fix.
+    V_tilde[..., -1] *= sign[..., None]
+    return V_tilde @ U_tilde_T
+    ### END SOLUTION
 
 # %% deformlab={"tests": "optimal_rotation", "points": 4}
 _S = np.diag([3.0, 2.0, -1.0])
@@ -250,6 +325,28 @@ assert np.shape(_R) == (2, 2, 2) and np.allclose(_R, np.eye(2), atol=1e-10), (
 # derivation held for any fixed $R$).
 
 # %% deformlab={"solution": "rigid_align"}
+def rigid_align(P, Q, w=None):
+    """The rotation and translation that best move ``P`` onto ``Q``.
+
+    Parameters
+    ----------
+    P, Q : (k, d) array_like of float
+        Corresponding source and target points.
+    w : (k,) array_like of float, optional
+        Non-negative weights; all ones by default.
+
+    Returns
+    -------
+    R : (d, d) numpy.ndarray
+        A rotation (``det R = +1``).
+    t : (d,) numpy.ndarray
+        Together minimizing ``Σ w_i ‖R p_i + t - q_i‖²`` over rotations.
+    """
+    ### BEGIN SOLUTION
+    R = optimal_rotation(covariance_matrix(P, Q, w))
+    t = centroid(Q, w) - R @ centroid(P, w)
+    return R, t
+    ### END SOLUTION
 
 # %% deformlab={"tests": "rigid_align", "points": 3}
 _P = np.random.default_rng(4).normal(size=(12, 3))

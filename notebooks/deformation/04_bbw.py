@@ -62,8 +62,42 @@ rng = np.random.default_rng(4)
 # $-L_{jk} = \int_\Omega \nabla\varphi_j \cdot \nabla\varphi_k \, dA$.
 
 # %% deformlab={"solution": "cotangent_weights"}
+import numpy as np
 
-# %% deformlab={"tests": "cotangent_weights", "points": 2}
+
+def cotangent_weights(V, F):
+    """Half the cotangent of every triangle corner.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions, ``d`` in {2, 3}.
+    F : (f, 3) array_like of int
+        Triangles, none of zero area.
+
+    Returns
+    -------
+    C : (f, 3) numpy.ndarray
+        ``C[t, k] = ½ cot`` of the angle at corner ``k`` of triangle ``t``: the weight of
+        the opposite edge ``(F[t, (k+1)%3], F[t, (k+2)%3])``.
+    """
+    ### BEGIN SOLUTION
+    V, F = np.asarray(V, dtype=float), np.asarray(F, dtype=np.int64)
+    C = np.empty(F.shape)
+    for k in range(3):
+        # the two edges leaving corner k
+        a = V[F[:, (k + 1) % 3]] - V[F[:, k]]
+        b = V[F[:, (k + 2) % 3]] - V[F[:, k]]
+        cos_part = np.sum(a * b, axis=1)  # |a| |b| cos θ
+        if V.shape[1] == 2:
+            sin_part = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])  # |a| |b| sin θ
+        else:
+            sin_part = np.linalg.norm(np.cross(a, b), axis=1)
+        C[:, k] = 0.5 * cos_part / sin_part
+    return C
+    ### END SOLUTION
+
+# %% deformlab={"tests": "cotangent_weights"}
 _V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
 _F = np.array([[0, 1, 2]])
 _C = cotangent_weights(_V, _F)
@@ -79,8 +113,40 @@ _V3 = np.hstack([_V, np.zeros((3, 1))]) @ np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 
 assert np.allclose(cotangent_weights(3.0 * _V3, _F), _C), "a rotated, scaled copy of a triangle in 3D must get the same weights"
 
 # %% deformlab={"solution": "cotangent_laplacian"}
+import numpy as np
+import scipy.sparse as sp
 
-# %% deformlab={"tests": "cotangent_laplacian", "points": 2}
+
+def cotangent_laplacian(V, F):
+    """The cotangent Laplacian (libigl's sign: negative semi-definite).
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    L : (n, n) scipy.sparse matrix
+        Symmetric; ``L[i, j]`` is the sum of the cotangent weights of edge ``(i, j)``,
+        ``L[i, i] = -Σ_{j≠i} L[i, j]``.
+    """
+    ### BEGIN SOLUTION
+    F = np.asarray(F, dtype=np.int64)
+    n = len(V)
+    C = cotangent_weights(V, F)
+    # weight C[t, k] belongs to the edge opposite corner k
+    i = np.concatenate([F[:, (k + 1) % 3] for k in range(3)])
+    j = np.concatenate([F[:, (k + 2) % 3] for k in range(3)])
+    c = np.concatenate([C[:, k] for k in range(3)])
+    off_diagonal = sp.coo_matrix((c, (i, j)), shape=(n, n))  # repeated (i, j) entries add up
+    off_diagonal = (off_diagonal + off_diagonal.T).tocsr()
+    return off_diagonal - sp.diags(np.asarray(off_diagonal.sum(axis=1)).ravel())
+    ### END SOLUTION
+
+# %% deformlab={"tests": "cotangent_laplacian"}
 _V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
 _L = cotangent_laplacian(_V, np.array([[0, 1, 2]]))
 assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name__}"
@@ -137,6 +203,33 @@ assert _LV.max() < 1e-9, (
 # general inverse.
 
 # %% deformlab={"solution": "biharmonic_matrix"}
+import igl
+import numpy as np
+import scipy.sparse as sp
+
+
+def biharmonic_matrix(V, F):
+    """The biharmonic energy matrix ``Q = L M⁻¹ L``.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    Q : (n, n) scipy.sparse matrix
+        ``L = cotangent_laplacian(V, F)``, ``M = igl.massmatrix(V, F)`` (Voronoi, diagonal).
+    """
+    ### BEGIN SOLUTION
+    V, F = np.asarray(V, dtype=float), np.asarray(F, dtype=np.int64)
+    L = cotangent_laplacian(V, F)
+    M = igl.massmatrix(V, F)
+    M_inverse = sp.diags(1.0 / M.diagonal())  # M is diagonal: invert its diagonal only
+    return (L @ M_inverse @ L).tocsr()
+    ### END SOLUTION
 
 # %% deformlab={"tests": "biharmonic_matrix", "points": 2}
 import igl as _igl  # noqa: E402
@@ -174,6 +267,33 @@ assert np.isclose(_ratio, 0.25), (
 # index arrays, one per handle.
 
 # %% deformlab={"solution": "handle_constraints"}
+import numpy as np
+
+
+def handle_constraints(handles):
+    """The interpolation constraints ``W[b] = bc`` of a list of handles.
+
+    Parameters
+    ----------
+    handles : list of array_like of int
+        One array of vertex indices per handle (one vertex for a point handle,
+        several for a bone or a region).
+
+    Returns
+    -------
+    b : (k,) numpy.ndarray of int
+        The handles' vertices, concatenated in order.
+    bc : (k, m) numpy.ndarray
+        1 in the column of each vertex's own handle, 0 elsewhere.
+    """
+    ### BEGIN SOLUTION
+    handles = [np.asarray(h, dtype=np.int64).reshape(-1) for h in handles]
+    b = np.concatenate(handles)
+    owner = np.concatenate([np.full(len(h), j) for j, h in enumerate(handles)])  # handle of each row of b
+    bc = np.zeros((len(b), len(handles)))
+    bc[np.arange(len(b)), owner] = 1.0
+    return b, bc
+    ### END SOLUTION
 
 # %% deformlab={"tests": "handle_constraints", "points": 2}
 _b, _bc = handle_constraints([np.array([3]), np.array([5, 7]), np.array([1])])
@@ -217,6 +337,37 @@ assert np.array_equal(_bc.sum(axis=1), np.ones(len(_b))), "every row of bc must 
 # zero: give them that handle's one-hot row.
 
 # %% deformlab={"solution": "inverse_distance_weights"}
+import numpy as np
+
+
+def inverse_distance_weights(V, handle_points, power=2):
+    """Shepard's inverse-distance weights.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    handle_points : (m, d) array_like of float
+        Distinct handle positions.
+    power : float
+        The exponent of the distance.
+
+    Returns
+    -------
+    W : (n, m) numpy.ndarray
+        ``W[i, j] ∝ ‖v_i - h_j‖^-power``, rows summing to 1; a vertex within 1e-12 of a
+        handle point gets that handle's one-hot row.
+    """
+    ### BEGIN SOLUTION
+    V, H = np.asarray(V, dtype=float), np.asarray(handle_points, dtype=float)
+    D = np.linalg.norm(V[:, None, :] - H[None, :, :], axis=2)  # (n, m) distances
+    nearest = np.argmin(D, axis=1)
+    on_handle = D[np.arange(len(V)), nearest] <= 1e-12
+    W = np.zeros_like(D)
+    W[~on_handle] = D[~on_handle] ** -float(power)
+    W[on_handle, nearest[on_handle]] = 1.0  # on a handle point: that handle alone
+    return W / W.sum(axis=1, keepdims=True)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "inverse_distance_weights", "points": 2}
 _W = inverse_distance_weights(np.array([[1.0, 0.0], [3.0, 0.0]]), np.array([[0.0, 0.0], [4.0, 0.0]]))
@@ -266,6 +417,38 @@ plotting.show_weights(V, F, W_idw, handles=points)
 # handles like a bent elastic beam, with negative *lobes* where it swings back.
 
 # %% deformlab={"solution": "unconstrained_biharmonic_weights"}
+import numpy as np
+import scipy.sparse.linalg as spla
+
+
+def unconstrained_biharmonic_weights(V, F, b, bc):
+    """The weights minimizing ``½ tr(Wᵀ Q W)`` subject to ``W[b] = bc``, without bounds.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    b : (k,) array_like of int
+        Constrained vertices.
+    bc : (k, m) array_like of float
+        Their values, one column per handle.
+
+    Returns
+    -------
+    W : (n, m) numpy.ndarray
+    """
+    ### BEGIN SOLUTION
+    b, bc = np.asarray(b, dtype=np.int64), np.asarray(bc, dtype=float)
+    Q = biharmonic_matrix(V, F).tocsr()
+    free = np.setdiff1d(np.arange(len(V)), b)
+    W = np.zeros((len(V), bc.shape[1]))
+    W[b] = bc
+    # Q_ff W_f = -Q_fb bc: one factorization, m right-hand sides
+    W[free] = spla.splu(Q[free][:, free].tocsc()).solve(-(Q[free][:, b] @ bc))
+    return W
+    ### END SOLUTION
 
 # %% deformlab={"tests": "unconstrained_biharmonic_weights", "points": 3}
 _V, _F = load_mesh("character")
@@ -325,6 +508,61 @@ assert _W.min() < -1e-3, "these weights should go negative somewhere (the lobes)
 # `[0, 1]` and summing to one to 1e-9.
 
 # %% deformlab={"solution": "bbw"}
+import numpy as np
+import scipy.sparse.linalg as spla
+
+
+def bbw(V, F, b, bc):
+    """Bounded biharmonic weights: one bound-constrained QP per handle, then rows normalized.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    b : (k,) array_like of int
+        Constrained vertices.
+    bc : (k, m) array_like of float
+        Their values, one column per handle.
+
+    Returns
+    -------
+    W : (n, m) numpy.ndarray
+        For each handle ``j``, ``w`` minimizes ``½ wᵀ Q w`` subject to ``w[b] = bc[:, j]``
+        and ``0 ≤ w ≤ 1``; then each row is divided by its sum.
+    """
+    ### BEGIN SOLUTION
+    b, bc = np.asarray(b, dtype=np.int64), np.asarray(bc, dtype=float)
+    Q = biharmonic_matrix(V, F).tocsr()
+    free = np.setdiff1d(np.arange(len(V)), b)
+    Q_ff = Q[free][:, free].tocsr()
+    W = np.zeros((len(V), bc.shape[1]))
+    W[b] = bc
+    for j in range(bc.shape[1]):
+        # Over the free values x: minimize ½ xᵀ Q_ff x + gᵀ x subject to 0 ≤ x ≤ 1.
+        g = Q[free][:, b] @ bc[:, j]
+        at_0 = np.zeros(len(free), dtype=bool)  # the active set: free values held at a bound
+        at_1 = np.zeros(len(free), dtype=bool)
+        for _ in range(1000):
+            x = at_1.astype(float)
+            inside = ~(at_0 | at_1)
+            # the equality-constrained problem of §5 on the values not held at a bound
+            rhs = -(g[inside] + Q_ff[inside][:, ~inside] @ x[~inside])
+            x[inside] = spla.splu(Q_ff[inside][:, inside].tocsc()).solve(rhs)
+            gradient = Q_ff @ x + g
+            tolerance = 1e-12 * (np.abs(g).max() + 1e-300)
+            # add every value that left [0, 1]; release every held value whose gradient points inside
+            new_0 = (at_0 & (gradient >= -tolerance)) | (inside & (x < 0))
+            new_1 = (at_1 & (gradient <= tolerance)) | (inside & (x > 1))
+            if np.array_equal(new_0, at_0) and np.array_equal(new_1, at_1):
+                break
+            at_0, at_1 = new_0, new_1
+        else:
+            raise RuntimeError(f"bbw: the active set of handle {j} did not settle in 1000 rounds")
+        W[free, j] = np.clip(x, 0.0, 1.0)  # inside values are in [0, 1] up to round-off
+    return W / W.sum(axis=1, keepdims=True)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "bbw", "points": 4}
 _V, _F = load_mesh("character")

@@ -84,6 +84,32 @@ rng = np.random.default_rng(5)
 # the products $w_{ij}[v_i;1]_c$ reshaped to `(n, m(d+1))`.
 
 # %% deformlab={"solution": "lbs_matrix"}
+import numpy as np
+
+
+def lbs_matrix(V, W):
+    """The linear blend skinning matrix: deformed positions are this matrix times the stacked transforms.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    W : (n, m) array_like of float
+        Weights, one column per handle.
+
+    Returns
+    -------
+    A : (n, m(d+1)) numpy.ndarray
+        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``
+        (it equals ``igl.lbs_matrix(V, W)``).
+    """
+    ### BEGIN SOLUTION
+    V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)
+    n, m = W.shape
+    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [v_iᵀ 1]
+    # (n, m, d+1): w_ij [v_i; 1]_c, then the handles side by side
+    return (W[:, :, None] * V_homogeneous[:, None, :]).reshape(n, -1)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "lbs_matrix", "points": 4}
 _M = lbs_matrix(np.array([[1.0, 2.0]]), np.array([[0.25, 0.75]]))
@@ -132,6 +158,32 @@ assert _err.max() < 1e-10, (
 # (`np.einsum` over handles and coordinates does it in one line).
 
 # %% deformlab={"solution": "lbs"}
+import numpy as np
+
+
+def lbs(V, W, T):
+    """Linear blend skinning.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    W : (n, m) array_like of float
+        Weights, one column per handle.
+    T : (m, d, d+1) array_like of float
+        One affine transformation ``[A_j | t_j]`` per handle.
+
+    Returns
+    -------
+    U : (n, d) numpy.ndarray
+        ``u_i = Σ_j W[i, j] T_j [v_i; 1]``.
+    """
+    ### BEGIN SOLUTION
+    V, W, T = (np.asarray(x, dtype=float) for x in (V, W, T))
+    V_homogeneous = np.hstack([V, np.ones((len(V), 1))])
+    moved = np.einsum("jdc,ic->ijd", T, V_homogeneous)  # T_j [v_i; 1] for every vertex and handle
+    return np.einsum("ij,ijd->id", W, moved)  # blended with the weights
+    ### END SOLUTION
 
 # %% deformlab={"tests": "lbs", "points": 4}
 _U = lbs(np.array([[1.0, 0.0]]), np.array([[1.0]]), np.array([[[0.0, -1.0, 0.0], [1.0, 0.0, 0.0]]]))
