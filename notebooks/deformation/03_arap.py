@@ -61,17 +61,18 @@ rng = np.random.default_rng(3)
 #
 # The local step of ARAP is the problem of stage 02, once per vertex: given a
 # $d \times d$ matrix $S$, find the rotation maximizing $\operatorname{tr}(R S)$.
-# With the SVD $S = U \Sigma \tilde U^\top$ the answer is
+# With the SVD $S = \tilde U \Sigma \tilde V^\top$ the answer is
 #
 # $$
-# R = \tilde U \, D \, U^\top, \qquad D = \operatorname{diag}\bigl(1, \dots, 1, \det(\tilde U U^\top)\bigr),
+# R = \tilde V \, D \, \tilde U^\top, \qquad D = \operatorname{diag}\bigl(1, \dots, 1, \det(\tilde V \tilde U^\top)\bigr),
 # $$
 #
-# i.e. the best orthogonal matrix $\tilde U U^\top$, with the direction of the
+# i.e. the best orthogonal matrix $\tilde V \tilde U^\top$, with the direction of the
 # smallest singular value flipped when that matrix is a reflection. ARAP calls it
 # for thousands of vertices per iteration, so make it accept a stack `(k, d, d)`
 # and work on the whole stack at once: `np.linalg.svd` and `np.linalg.det` both
-# broadcast over leading axes. Bring your solution from stage 02.
+# broadcast over leading axes. Bring your solution from stage 02 (it was graded
+# there; its tests here only help you check the copy).
 
 # %% deformlab={"solution": "optimal_rotation"}
 import numpy as np
@@ -173,6 +174,11 @@ assert np.allclose(optimal_rotation(_S), _rot2(-0.7)), "for S = R(0.7)·diag(3, 
 # where $\alpha_{jk}$ is the angle of $T$ *opposite* the edge $(j, k)$. Note the
 # factor ½, and note that the weight belongs to the triangle: an interior edge
 # gets one weight from each of its two triangles.
+#
+# The identity is exact in 2D. On a triangle of a surface in 3D, the edges only
+# define what $J_T$ does *within the triangle's plane*, and the left side equals
+# $A_T \|(J_T - R_i)\,\Pi_T\|_F^2$ with $\Pi_T$ the orthogonal projection onto
+# that plane: what $R_i$ does to the triangle's normal costs nothing.
 #
 # **Your task.** `cotangent_weights(V, F)` returns the `(f, 3)` array
 # `C[t, k]` $= \tfrac12\cot$ of the angle at corner `k` of triangle `t`, the weight

@@ -54,7 +54,8 @@ rng = np.random.default_rng(4)
 # %% [markdown]
 # ## 1 · The cotangent Laplacian (from stage 03)
 #
-# Bring `cotangent_weights` and `cotangent_laplacian` from stage 03. As a
+# Bring `cotangent_weights` and `cotangent_laplacian` from stage 03 (they were
+# graded there; their tests here only help you check the copy). As a
 # reminder: `C[t, k]` $= \tfrac12\cot$ of the angle at corner `k` of triangle `t`,
 # weighting the opposite edge; $L_{jk} = \sum_{T \ni (j,k)} c^T_{jk}$ and
 # $L_{jj} = -\sum_{k\ne j} L_{jk}$. On a triangle mesh, $-L$ is the finite-element
@@ -189,9 +190,16 @@ assert _LV.max() < 1e-9, (
 # split into two second-order ones, so piecewise-linear elements suffice. $Q$ is
 # symmetric and positive semi-definite ($w^\top Q w = \|Lw\|^2_{M^{-1}}$), sparse
 # (two-ring neighbours), and its null space contains the constants. The outline
-# needs no special treatment: minimizing $w^\top Q w$ leaves the values there
-# free (it imposes so-called *natural* boundary conditions), whereas prescribing
-# $w = 0$ on the boundary would pin the outline in place.
+# gets no explicit constraint, but it is not free of assumptions either. $L$ is
+# assembled with zero-Neumann conditions (a row of $L$ at the outline only sees
+# the triangles inside), and squaring it bakes $\partial w / \partial n = 0$ into
+# $Q$: the weights are biased near the boundary, their level lines pushed to
+# meet it at right angles. Those are not the *natural* boundary conditions of
+# $\int (\Delta w)^2$, and the bias does not go away under refinement (Stein,
+# Grinspun, Wardetzky and Jacobson, *Natural boundary conditions for smoothing
+# in geometry processing*, ACM TOG 2018). BBW, and libigl's `bbw`, use this $Q$
+# all the same; prescribing $w = 0$ on the boundary instead would pin the
+# outline in place.
 #
 # Units are a good check: in 2D, $L$ is scale-invariant (cotangents only see
 # angles) while $M$ is an area. Scaling the shape by $s$ therefore scales $Q$ by

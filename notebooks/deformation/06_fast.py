@@ -26,7 +26,7 @@
 # Transformations*, SIGGRAPH 2012) combine them: keep the LBS deformation
 #
 # $$
-# U = M\,T, \qquad M = \texttt{lbs\_matrix}(V, W) \in \mathbb R^{n \times m(d+1)},
+# U = A\,T, \qquad A = \texttt{lbs\_matrix}(V, W) \in \mathbb R^{n \times m(d+1)},
 # \quad T = \begin{bmatrix} T_1^\top \\ \vdots \\ T_m^\top \end{bmatrix} \in \mathbb R^{m(d+1) \times d},
 # $$
 #
@@ -63,8 +63,8 @@ rng = np.random.default_rng(6)
 #
 # FAST reuses four functions you wrote before. Bring your solutions of
 # `optimal_rotation` (stage 02), `cotangent_weights` and `cotangent_laplacian`
-# (stage 03) and `lbs_matrix` (stage 05); their tests here are short, the
-# notebooks of their stages explain them.
+# (stage 03) and `lbs_matrix` (stage 05); they were graded in their own stages,
+# and their short tests here only help you check the copy.
 
 # %% deformlab={"solution": "optimal_rotation"}
 import numpy as np
@@ -220,9 +220,9 @@ def lbs_matrix(V, W):
 # %% deformlab={"tests": "lbs_matrix"}
 _V, _F = load_mesh("character")
 _W = rng.uniform(size=(len(_V), 3))
-_M = lbs_matrix(_V, _W)
-assert _M.shape == (len(_V), 9), f"for m = 3 handles in 2D expected shape {(len(_V), 9)}, got {np.shape(_M)}"
-assert np.abs(_M - igl.lbs_matrix(_V, _W)).max() < 1e-12, "M must equal igl.lbs_matrix"
+_A = lbs_matrix(_V, _W)
+assert _A.shape == (len(_V), 9), f"for m = 3 handles in 2D expected shape {(len(_V), 9)}, got {np.shape(_A)}"
+assert np.abs(_A - igl.lbs_matrix(_V, _W)).max() < 1e-12, "A must equal igl.lbs_matrix"
 
 # %% [markdown]
 # ## 2 · Rotation clusters
@@ -339,18 +339,18 @@ for _k in (1, 4, 12):
 # cells of all three corners of $t$, so
 #
 # * the **quadratic** part is $3 \sum_{t,k} C_{tk} \|e'_{tk}\|^2 = 3\,\operatorname{tr}(U^\top (-L)\, U)$
-#   with the cotangent Laplacian $L$; with $U = M T$ it is
-#   $\operatorname{tr}(T^\top Q\, T)$, $Q = 3\,M^\top(-L)\,M$, a small dense
+#   with the cotangent Laplacian $L$; with $U = A T$ it is
+#   $\operatorname{tr}(T^\top Q\, T)$, $Q = 3\,A^\top(-L)\,A$, a small dense
 #   $m(d+1) \times m(d+1)$ matrix;
 # * the **constant** part is $3 \sum_{t,k} C_{tk} \|e_{tk}\|^2$;
 # * the **cross** part is $-2 \sum_c \operatorname{tr}(R_c S_c)$ with the cluster
 #   covariances $S_c = \sum_{i \in c} \sum_{t \ni i} \sum_k C_{tk}\, e_{tk}\, e'^\top_{tk}$.
 #
-# The deformed edge is linear in $T$: $e'_{tk} = (M_a - M_b)\,T$ for the rows
-# $M_a, M_b$ of $M$ at its end points $a, b$. Hence $S_c = P_c\, T$ with
+# The deformed edge is linear in $T$: $e'_{tk} = (A_a - A_b)\,T$ for the rows
+# $A_a, A_b$ of $A$ at its end points $a, b$. Hence $S_c = P_c\, T$ with
 #
 # $$
-# P_c = \sum_{i \in c} \sum_{t \ni i} \sum_k C_{tk}\; e_{tk}\, (M_a - M_b) \;\in \mathbb R^{d \times m(d+1)} ,
+# P_c = \sum_{i \in c} \sum_{t \ni i} \sum_k C_{tk}\; e_{tk}\, (A_a - A_b) \;\in \mathbb R^{d \times m(d+1)} ,
 # $$
 #
 # and with $B(R) = \sum_c (R_c P_c)^\top$ the whole energy is
@@ -521,7 +521,7 @@ _want = _direct_energy(_V, _F, _W, _T, _clusters, _R)
 _E = fast_energy(_data, _T, _R)
 assert np.isclose(_E, _want, rtol=1e-9), (
     f"for random transforms and cluster rotations the energy is {_want:.10g}, got {_E:.10g} "
-    "(every edge counts in the cells of its triangle's three corners: Q = 3 Mᵀ(-L)M)"
+    "(every edge counts in the cells of its triangle's three corners: Q = 3 Aᵀ(-L)A)"
 )
 
 # %% [markdown]
@@ -830,7 +830,7 @@ print(f"{len(V_fine)} vertices: FAST {1e6 * fast_fine:.0f} µs, ARAP {1e3 * arap
 # turning it up costs per iteration and in the precomputation.
 
 # %% [markdown] deformlab={"answer": "fast_tradeoffs", "points": 2}
-# Two restrictions: (1) the deformation must lie in the LBS subspace, U = M T,
+# Two restrictions: (1) the deformation must lie in the LBS subspace, U = A T,
 # so only what the weights can express is reachable (the arms bend only where
 # weights blend, nothing can bulge where the weights are flat); adding free
 # handles (more weight functions, FAST's "extra weights") enlarges the subspace,
