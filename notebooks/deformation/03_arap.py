@@ -994,6 +994,31 @@ assert np.allclose(laplacian_editing(_V, _F, _h, _V[_h] + _t), _V + _t), "transl
 assert np.array_equal(_U[_h], _target), "U[handles] must equal handle_positions exactly"
 
 # %% [markdown]
+# **Predict first.** Below, the bar is twisted by 90° with Laplacian editing, and
+# then ARAP runs 1, 2 and 4 iterations starting from that guess. Before you run
+# the cell, write down: is the middle cross-section of the Laplacian-editing bar
+# larger or smaller than at rest, by roughly how much, and after how many
+# iterations do you expect it back within 2 % of its rest size?
+
+# %%
+def section_size(U):
+    """RMS distance of the bar's middle ring of vertices from its centre, relative to the rest pose."""
+    ring = np.abs((V - V[handles].mean(axis=0)) @ x_axis) < 1e-9
+    size = lambda X: np.sqrt(np.mean(np.sum((X[ring] - X[ring].mean(axis=0)) ** 2, axis=1)))
+    return size(U) / size(V)
+
+
+target = twist(V, left, right, np.pi / 2)
+U_guess = laplacian_editing(V, F, handles, target)
+stages = [("Laplacian editing", U_guess)]
+for iterations in (1, 2, 4):
+    U_k, energies = arap_solve(data, target, U0=U_guess, iterations=iterations)
+    stages.append((f"{iterations} iteration{'s' * (iterations > 1)}", U_k))
+for label, U_k in stages:
+    print(f"{label:18s} middle cross-section × {section_size(U_k):.3f}")
+plotting.show_meshes([(U_k, F) for _, U_k in stages], titles=[label for label, _ in stages])
+
+# %% [markdown]
 # ARAP finds a local minimum, and how many iterations it needs depends on where
 # it starts. Three initial guesses:
 #
@@ -1132,16 +1157,70 @@ plotting.show_energy(curves, title="ARAP energy, 90° twist, from the rest pose"
 # mesh.
 
 # %% [markdown]
-# **Question.** The energy curves above never go up. Explain why from the two
-# steps, and say what this does and does not guarantee about the shape you get.
+# ## 12 · Why the local step must return rotations
+#
+# **Predict first.** The 2D character's hands swap places (the head and the feet
+# stay). The cell below solves this twice, with your `arap_rotations` and with
+# the best *orthogonal* matrix of stage 01 in the local step (no sign
+# correction), and counts the triangles that end up inside out. Before you run
+# it: how many of the character's triangles do you expect flipped in each case,
+# and which of the two solves reaches the *lower* energy?
+
+# %%
+V2, F2 = load_mesh("character")
+points2 = np.array(load_handles("character")["points"])  # head top, left hand, right hand, left foot, right foot
+target2 = V2[points2].copy()
+target2[[1, 2]] = V2[points2[[2, 1]]]  # the hands swap places
+C2 = cotangent_weights(V2, F2)
+data2 = arap_precompute(V2, F2, points2)
+
+
+def signed_areas(U):
+    a, b, c = U[F2[:, 0]], U[F2[:, 1]], U[F2[:, 2]]
+    return (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
+
+
+def best_orthogonal(S):
+    """Stage 01's Ṽ Ũᵀ for a stack of S: possibly reflections."""
+    U_tilde, _, V_tilde_T = np.linalg.svd(S)
+    return np.swapaxes(V_tilde_T, -1, -2) @ np.swapaxes(U_tilde, -1, -2)
+
+
+local_steps = {
+    "best orthogonal (no sign correction)": lambda U: best_orthogonal(arap_covariances(V2, U, F2, C2)),
+    "best rotation (arap_rotations)": lambda U: arap_rotations(V2, U, F2, C2),
+}
+results = []
+for label, local_step in local_steps.items():
+    U = V2.copy()
+    U[points2] = target2
+    for _ in range(30):
+        R = local_step(U)
+        U = arap_global_step(data2, R, target2)
+    flipped = np.sign(signed_areas(U)) != np.sign(signed_areas(V2))
+    print(f"{label:37s}: {flipped.sum():4d} of {len(F2)} triangles flipped, "
+          f"{np.sum(np.linalg.det(R) < 0):4d} reflections among the R_i, energy {arap_energy(V2, U, F2, C2, R):.4f}")
+    results.append((U, F2, flipped.astype(float)))
+plotting.show_meshes(results, titles=list(local_steps))
+
+# %% [markdown]
+# **Question.** Without the sign correction the energy comes out *lower*, yet the
+# result is worse. Explain both observations: why can reflections lower this
+# energy, and why do the flipped triangles follow from them? Then say what the
+# monotone decrease of the energies (§7) does and does not guarantee here.
 
 # %% [markdown] deformlab={"answer": "arap_monotone", "points": 2}
-# Each step minimizes E exactly over its own unknowns with the others fixed, and
-# the current values are feasible candidates: the local step can always keep the
-# old rotations and the global step can always keep the old positions (they
-# satisfy the handle constraints). So E(u^{k+1}, R^{k+1}) ≤ E(u^k, R^{k+1}) ≤
-# E(u^k, R^k), and since E ≥ 0 the energies converge. This guarantees neither the
-# global minimum nor the intended shape: E is not jointly convex in u and R, so
-# the iteration stops in a local minimum that depends on the start (the 180°
-# twist in one step pinches instead of twisting), and it says nothing about
-# speed: the decrease can become very slow (fine meshes, poor initial guesses).
+# The energy only compares each cell's deformed edges with its rest edges moved
+# by R_i; it does not care whether R_i is a rotation. With the hands swapped,
+# the arms must cross, and mirroring a cell (a reflection) fits such edges
+# better than turning it, so allowing reflections enlarges the set the local
+# step optimizes over and the minimum is lower. But a cell asked to be the
+# mirror image of its rest shape is inside out: the global step then places its
+# triangles with reversed orientation, hundreds of flipped triangles, while with
+# rotations only a few triangles near the crossing flip. Monotonicity (each step
+# minimizes exactly over its own unknowns, so E never goes up and converges)
+# holds in both runs: it guarantees a non-increasing energy and convergence, not
+# a good shape, not the global minimum (E is not convex in (u, R) jointly), and
+# nothing about which energy is the meaningful one: minimizing over the wrong
+# set (orthogonal instead of rotations) converges just as monotonically to a
+# wrong answer.
