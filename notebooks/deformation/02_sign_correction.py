@@ -419,22 +419,23 @@ plotting.show_points(P2, Q_mirror, P2 @ R_orth.T + t_orth, title="best orthogona
 plotting.show_points(P2, Q_mirror, P2 @ R.T + t, title="best rotation: det = +1")
 
 # %% [markdown]
-# **Question.** Why is flipping the sign of the singular vector of the
-# *smallest* singular value the least costly way to turn the best orthogonal map
-# into a rotation? How much of $\operatorname{tr}(RS)$ does it cost, and when does
-# it cost nothing? Answer in a few sentences in the cell below.
+# **Question.** In the noise experiment of §1, the best orthogonal map of the thin
+# character comes out as a reflection in many trials, and then the sign
+# correction changes $R$. How much does the correction cost in those trials
+# compared with the fit itself, and why can $R$ nevertheless change a lot? What
+# goes wrong when *two* singular values vanish (all points on a line in 3D), and
+# does the sign correction help there?
 
 # %% [markdown] deformlab={"answer": "least_costly_flip", "points": 2}
-# With $M = \tilde V^\top R \tilde U$, $\operatorname{tr}(RS) = \sum_i \sigma_i m_{ii}$, and
-# the unconstrained optimum $M = I$ has $\det M = \det(\tilde V \tilde U^\top) = -1$ in
-# the bad case. A rotation $R$ forces $\det M = -1$, so $M$ cannot be $I$: the
-# diagonal entries $m_{ii} \le 1$ must give something up, and at best (as the
-# bound $\operatorname{tr} M \le d - 2$ shows) exactly one of them goes from $+1$ to
-# $-1$. Turning $m_{ii}$ from $+1$ to $-1$ costs $2\sigma_i$, so the cheapest choice
-# is the direction with the smallest singular value: the loss is $2\sigma_d$ and
-# $\operatorname{tr}(RS) = \sigma_1 + \dots + \sigma_{d-1} - \sigma_d$. $\sigma_d$
-# measures how much the data constrain that direction, the least of all
-# directions, so flipping it changes the fit least. When $\sigma_d = 0$ (flat
-# data in 3D, collinear in 2D) the flip costs nothing: the reflection and the
-# rotation fit equally well and the correction only picks the rotation. Flipping
-# any other singular vector would cost $2\sigma_i \ge 2\sigma_d$.
+# The correction costs 2σ_3 of tr(RS), so E grows by 4σ_3 (E = const − 2 tr(RS)).
+# For the thin character σ_3 is of the order of the thickness times the noise,
+# tiny against σ_1 and σ_2, so the corrected fit is practically as good. R itself
+# changes by a mirror across the (nearly) common plane of the points: R becomes
+# R H, which sends the plane's normal to its opposite. That is a large change of
+# the matrix, but in the one direction the data hardly constrain, which is why
+# the fit barely notices. With σ_2 = σ_3 = 0 (collinear points in 3D) every
+# rotation about the line fits equally well: the best rotation is not unique, a
+# whole circle of maximizers, and the SVD picks one of them arbitrarily. The sign
+# correction still returns a rotation (det = +1), but it cannot make the answer
+# unique; a method that needs R there (ARAP on a degenerate cell) must get the
+# missing information elsewhere, e.g. from neighbouring cells or a previous R.

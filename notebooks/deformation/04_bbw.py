@@ -557,7 +557,10 @@ def bbw(V, F, b, bc):
             inside = ~(at_0 | at_1)
             # the equality-constrained problem of §5 on the values not held at a bound
             rhs = -(g[inside] + Q_ff[inside][:, ~inside] @ x[~inside])
-            x[inside] = spla.splu(Q_ff[inside][:, inside].tocsc()).solve(rhs)
+            # The matrix is symmetric positive definite: tell SuperLU so (no pivoting, a symmetric ordering).
+            lu = spla.splu(Q_ff[inside][:, inside].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+            x[inside] = lu.solve(rhs)
             gradient = Q_ff @ x + g
             tolerance = 1e-12 * (np.abs(g).max() + 1e-300)
             # add every value that left [0, 1]; release every held value whose gradient points inside
@@ -643,6 +646,59 @@ plotting.show_meshes(
 )
 
 # %% [markdown]
+# **Predict first.** A fork: two prongs side by side, 0.07 apart, joined only at
+# the bottom, with a point handle on top of each prong and one at the base. Pull
+# the left prong's handle up by 0.3. Before running the cell, guess how far the
+# top of the *right* prong moves with inverse-distance weights and with bounded
+# biharmonic weights (it is about as close to the left handle, through the air,
+# as to its own).
+
+# %%
+V_fork, F_fork = shapes.grid_2d(nx=60, ny=30, width=2.0, height=1.0)
+centres = V_fork[F_fork].mean(axis=1)
+F_fork = F_fork[~((np.abs(centres[:, 0] - 1.0) < 0.03) & (centres[:, 1] > 0.2))]  # cut the slot
+used, F_fork = np.unique(F_fork, return_inverse=True)  # drop the vertices the slot left unused
+V_fork, F_fork = V_fork[used], F_fork.reshape(-1, 3)
+fork_points = np.array([np.argmin(np.linalg.norm(V_fork - c, axis=1)) for c in ([0.5, 1.0], [1.5, 1.0], [1.0, 0.0])])
+_, bc_fork = handle_constraints([np.array([p]) for p in fork_points])
+W_fork = {
+    "inverse distance": inverse_distance_weights(V_fork, V_fork[fork_points]),
+    "bounded biharmonic": bbw(V_fork, F_fork, fork_points, bc_fork),
+}
+right_prong_top = (V_fork[:, 0] > 1.0) & (V_fork[:, 1] > 0.9)
+t = np.array([0.0, 0.3])
+for label, W in W_fork.items():
+    print(f"{label:18s}: the top of the right prong moves by up to {np.abs(W[right_prong_top, 0] * t[1]).max():.3f} "
+          f"(the left handle moves by {t[1]})")
+plotting.show_meshes(
+    [(V_fork + W[:, :1] * t, F_fork, W[:, 0]) for W in W_fork.values()],
+    titles=[f"{label}: left prong pulled up" for label in W_fork],
+)
+
+# %% [markdown]
+# **Predict first.** Why biharmonic and not simply *harmonic* weights, which
+# minimize $\int \|\nabla w\|^2$ (one solve with $L$ instead of $Q$, no lobes,
+# and `igl.harmonic(V, F, b, bc, 1)` computes them)? At the same five point
+# handles, guess the left hand's weight 0.1 away from the hand for harmonic and
+# for biharmonic weights, and what happens to both on a finer mesh of the same
+# character.
+
+# %%
+hand = 1  # the left hand's column
+V_fine, F_fine = load_mesh("character_fine")
+points_fine = np.array(load_handles("character_fine")["points"])
+for name, (Vm, Fm, pm) in {"character": (V, F, points), "character_fine": (V_fine, F_fine, points_fine)}.items():
+    near = np.abs(np.linalg.norm(Vm - Vm[pm[hand]], axis=1) - 0.1) < 0.01  # a ring 0.1 from the hand
+    b_m, bc_m = handle_constraints([np.array([p]) for p in pm])
+    harmonic = igl.harmonic(Vm, Fm, b_m, bc_m, 1)
+    biharmonic = unconstrained_biharmonic_weights(Vm, Fm, b_m, bc_m)
+    means = [harmonic[near, hand].mean(), biharmonic[near, hand].mean()]
+    print(f"{name:15s} ({len(Vm):5d} vertices): mean left-hand weight 0.1 from the hand "
+          f"{means[0]:.3f} (harmonic), {means[1]:.3f} (biharmonic)")
+W_harmonic = igl.harmonic(V, F, points, np.eye(len(points)), 1)
+plotting.show_weights(V, F, np.stack([W_harmonic[:, hand], W_unconstrained[:, hand]], axis=1), handles=points)
+
+# %% [markdown]
 # **Question.** Why do the unconstrained biharmonic weights go negative, and what
 # does that do to a deformation? Why does clipping them to $[0, 1]$ not give the
 # bounded biharmonic weights?
@@ -661,19 +717,30 @@ plotting.show_meshes(
 # bounded QP re-shapes the whole weight function to meet the bound smoothly.
 
 # %% [markdown]
-# **Question.** Inverse-distance weights are positive, interpolate and sum to
-# one. Name the two flaws visible in the pictures and explain where each comes
-# from.
+# **Question.** In the fork experiment, inverse-distance weights leaked across
+# the slot and bounded biharmonic weights did not. Could *any* weight of the form
+# $w_j(v) = f(\|v - h_j\|)$ (normalized), with a cleverer $f$, avoid the leak?
+# Say what information such weights would need, and how the biharmonic weights
+# get it. Then explain the harmonic weights' shares in the last experiment.
 
 # %% [markdown] deformlab={"answer": "inverse_distance", "points": 2}
-# Flat spots: for p > 1 the weight ‖v − h_j‖^{-p} normalized has zero gradient at
-# every handle point, so each handle drags a small neighbourhood rigidly and all
-# the stretching is squeezed in between; far from the handles every weight tends
-# to 1/m, so distant parts move with the average of all handles. No shape
-# awareness: the distance is Euclidean, through the air, so a handle influences
-# everything that is close in the plane, e.g. the left hand moves the left hip
-# and thigh although along the body they are far away; biharmonic weights live
-# on the mesh and only spread through the shape.
+# No: two vertices at the same Euclidean distance from h_j get the same weight
+# whatever f is, whether they are connected to the handle through the shape or
+# only across a gap, so the top of the right prong, about as close to the left
+# handle as to its own, must move about half as much as the left prong. Weights that respect the shape need its connectivity: a
+# distance measured inside the shape (geodesic), or an energy defined on the
+# mesh. Biharmonic weights minimize ½ wᵀQw, where Q couples only vertices within
+# two rings of each other: influence spreads from neighbour to neighbour through
+# the triangles, and nothing crosses the slot, where there are no triangles: the
+# left handle's weight reaches the right prong only around the base.
+# Harmonic weights are also shape-aware, but a point constraint is too small for
+# a second-order energy: in the continuum a harmonic function cannot be pinned
+# at a single point (the log singularity makes the energy of the spike vanish),
+# so the weight has a spike (a cusp) at the handle and drops steeply around it,
+# and more so as the mesh is refined (0.1 from the hand it falls further on the
+# finer mesh). The biharmonic energy is fourth order: point values are well
+# defined, the weight is smooth and flat at its handle (close to 1 at 0.1), and
+# refining the mesh hardly changes it.
 
 # %% [markdown]
 # ## 8 · Every kind of handle at once
