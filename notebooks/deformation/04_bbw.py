@@ -763,3 +763,44 @@ W_mixed = bbw(V, F, b, bc)
 for label, w in zip(("point (right hand)", "bone (left arm)", "region (head)"), W_mixed.T):
     print(f"{label:18s}: weight ≥ 0.5 on {np.mean(w >= 0.5):5.1%} of the vertices")
 plotting.show_weights(V, F, W_mixed, handles=mixed, columns=[0, 1, 2])
+
+# %% [markdown]
+# ## 9 · A cage
+#
+# A **cage** is a coarse polygon around the shape whose vertices are the handles.
+# Its constraint is not one-hot: along every cage edge the weights must be
+# *linear*, so that a straight cage edge maps to a straight edge, and the weights
+# of the two cage vertices at its ends share the edge as the two hat functions of
+# a segment do. Here the shape is the unit square meshed by a grid, its outline
+# is the cage (four corners), and every outline vertex is constrained: on the
+# outline, the bilinear coordinates $(1-x)(1-y),\ x(1-y),\ xy,\ (1-x)y$ are
+# exactly those linear hats. `bbw` fills in the inside; then every vertex moves
+# by $\sum_j w_j\,(c'_j - c_j)$ for the moved corners $c'_j$.
+#
+# **Predict first.** The corners move to a general quadrilateral. Do the grid's
+# straight lines stay straight: the outline? the vertical line through the
+# middle? (The bilinear map would keep both straight.)
+
+# %%
+V_cage, F_cage = shapes.grid_2d(nx=24, ny=24)
+corners = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+x, y = V_cage.T
+bilinear = np.stack([(1 - x) * (1 - y), x * (1 - y), x * y, (1 - x) * y], axis=1)
+outline = np.flatnonzero((x == 0) | (x == 1) | (y == 0) | (y == 1))
+W_cage = bbw(V_cage, F_cage, outline, bilinear[outline])  # linear along every cage edge
+moved = np.array([[0.0, 0.0], [1.3, 0.2], [1.0, 1.4], [-0.2, 0.9]])
+U_cage = V_cage + W_cage @ (moved - corners)
+
+
+def bend_of(points):
+    """Largest distance of a chain of points from the straight line through its two ends."""
+    ends = points[[0, -1]]
+    normal = np.array([-(ends[1] - ends[0])[1], (ends[1] - ends[0])[0]]) / np.linalg.norm(ends[1] - ends[0])
+    return np.abs((points - ends[0]) @ normal).max()
+
+
+for label, chain in (("bottom edge of the outline", y == 0), ("vertical line x = 0.5", np.isclose(x, 0.5))):
+    order = np.argsort(x[chain] + y[chain])
+    print(f"{label:27s}: bends by {bend_of(U_cage[chain][order]):.4f}")
+print(f"largest difference between the cage weights and the bilinear coordinates: {np.abs(W_cage - bilinear).max():.3f}")
+plotting.show_meshes([(V_cage, F_cage), (U_cage, F_cage, W_cage[:, 2])], titles=["rest", "cage corners moved"])

@@ -42,7 +42,8 @@
 # enclosing the shape are point handles that only translate, the weights are
 # *generalized barycentric coordinates* of the cage (mean-value, harmonic or
 # Green coordinates), and $u_i = \sum_j w_{ij}\, c'_j$ for the moved cage
-# vertices $c'_j$.
+# vertices $c'_j$. Stage 04 (§9) builds one with `bbw`: the weights are
+# constrained to be linear along the cage's edges instead of one-hot.
 #
 # **Notation.** `V` `(n, d)` rest positions, `W` `(n, m)` weights (one column per
 # handle, every row summing to one), `T` `(m, d, d+1)` one affine transformation
