@@ -51,3 +51,16 @@ def test_teaching_solutions_are_short_and_name_no_oracle_internals(notebook):
         docstring = ast.get_docstring(tree.body[-1])
         for word in ("Horn", "Newton", "quaternion", "benchmarks", "starter.validation", "reference"):
             assert word not in docstring, f"{notebook}: {cell.function}'s docstring (what students see) mentions {word!r}"
+
+
+def test_a_function_taught_in_several_notebooks_has_one_teaching_solution():
+    """Later notebooks carry copies of earlier functions (each notebook stands alone): the copies must not drift."""
+    cells: dict[str, dict[str, str]] = {}
+    for notebook in sorted(STAGES):
+        for cell in read_authored(NOTEBOOKS / f"{notebook}.py").cells:
+            if cell.kind == "solution":
+                cells.setdefault(cell.function, {})[notebook] = cell.source
+    for function, copies in cells.items():
+        owner = next(stage for stage, (_, names) in STAGES.items() if function in names)
+        for notebook, source in copies.items():
+            assert source == copies[owner], f"{function} in {notebook} differs from its teaching solution in {owner}"
