@@ -878,7 +878,7 @@ assert np.allclose(_U2, arap_solve(_data, _target, U0=_U1, iterations=1)[0]), (
 # right one is twisted by 90° about the bar's axis, or bent so that the bar
 # becomes a quarter circle (the end turns by 90° and moves to where a bent bar of
 # the same length would put it). As in an interactive session, the handle turns
-# gradually, in frames of 10°, and each frame's solve starts from the previous
+# gradually, in frames of 15°, and each frame's solve starts from the previous
 # frame's result (§9 shows why). The factorization is computed once for all
 # frames. The handles are marked in red.
 
@@ -935,8 +935,8 @@ start = time.perf_counter()
 arap_solve(data, twist(V, left, right, np.pi / 2), iterations=10)
 print(f"arap_solve, 10 iterations: {time.perf_counter() - start:.3f} s")
 
-U_twist = animate(data, V, twist, range(10, 91, 10), iterations=10)
-U_bend = animate(data, V, bend, range(10, 91, 10), iterations=10)
+U_twist = animate(data, V, twist, range(15, 91, 15), iterations=10)
+U_bend = animate(data, V, bend, range(15, 91, 15), iterations=10)
 plotting.show_deformation(V, U_twist, F, handles=handles, titles=("rest", "twisted by 90°"))
 plotting.show_deformation(V, U_bend, F, handles=handles, titles=("rest", "bent by 90°"))
 
