@@ -10,7 +10,7 @@ notebook into one student's submission and what grading it must give:
     One line: the mistake or the attack.
 ``SOLUTIONS``
     ``{function: source}``: the whole source of that function's solution cell.
-    Every other solution cell keeps the reference code, its
+    Every other solution cell keeps the teaching solution, its
     ``### BEGIN/END SOLUTION`` marker lines removed, as a student would hand it in.
 ``LOSES``
     The functions whose tests cells must lose points; every other graded

@@ -2,17 +2,23 @@
 
 Cell kinds come from the ``deformlab`` metadata on each ``# %%`` line
 (``notebooks/README.md``): text, provided code, solution, tests, short answer.
+A solution cell holds the teaching solution itself: the function, its docstring,
+and its body between nbgrader's solution markers.
 """
 
 from __future__ import annotations
 
 import ast
+import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import jupytext
 
-from grader.contract import CONTRACT_NAMES
+from grader.contract import CONTRACT_NAMES, STAGES
+
+BEGIN_SOLUTION = "### BEGIN SOLUTION"
+END_SOLUTION = "### END SOLUTION"
 
 
 class AuthoringError(ValueError):
@@ -25,7 +31,7 @@ class AuthoredCell:
     source: str
     function: str | None = None  # for solution and tests cells
     answer_id: str | None = None
-    points: float = 0.0
+    points: float = 0.0  # 0 for the public checks of a function graded in an earlier stage
 
 
 @dataclass
@@ -64,6 +70,51 @@ def referenced_names(source: str) -> set[str]:
     return {n.id for n in ast.walk(ast.parse(source)) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
 
 
+def earlier_stage(notebook: str, function: str) -> str | None:
+    """The stage that grades ``function`` if it is not ``notebook``'s own (a function the student copies over)."""
+    if notebook not in STAGES or function in STAGES[notebook][1]:
+        return None
+    return next(stage for stage, (_, names) in STAGES.items() if function in names)
+
+
+def solution_body(source: str) -> str:
+    """The code between a solution cell's markers (what a release must never contain)."""
+    inside = source.split(BEGIN_SOLUTION, 1)[1].split(END_SOLUTION, 1)[0]
+    return textwrap.dedent(inside.split("\n", 1)[1] if "\n" in inside else "")
+
+
+def check_solution_cell(source: str, name: str, where: str) -> None:
+    """A solution cell is imports plus ``def name`` with a docstring, its body between the markers.
+
+    Raises
+    ------
+    AuthoringError
+        Naming the broken rule.
+    """
+    try:
+        tree = ast.parse(source)
+    except SyntaxError as exc:
+        raise AuthoringError(f"{where}: syntax error: {exc}") from None
+    others = [n for n in tree.body if not isinstance(n, (ast.Import, ast.ImportFrom, ast.FunctionDef))]
+    defs = [n for n in tree.body if isinstance(n, ast.FunctionDef)]
+    if others or [d.name for d in defs] != [name]:
+        raise AuthoringError(f"{where}: the solution cell for {name} must hold only imports and def {name}(...)")
+    func = defs[0]
+    if ast.get_docstring(func) is None:
+        raise AuthoringError(f"{where}: {name} needs a docstring (students see it in the release)")
+    lines = source.splitlines()
+    begin = [i for i, line in enumerate(lines) if line.strip() == BEGIN_SOLUTION]
+    end = [i for i, line in enumerate(lines) if line.strip() == END_SOLUTION]
+    if len(begin) != 1 or len(end) != 1 or begin[0] > end[0]:
+        raise AuthoringError(f"{where}: the solution cell for {name} needs one {BEGIN_SOLUTION} ... {END_SOLUTION} pair")
+    # Line numbers: begin/end are 0-based, the AST's 1-based. Every statement after the docstring is inside.
+    after_doc = func.body[1:]
+    if begin[0] < func.body[0].end_lineno or (after_doc and after_doc[0].lineno <= begin[0] + 1) or end[0] + 1 < func.end_lineno:
+        raise AuthoringError(f"{where}: in {name}, the solution markers must enclose the whole body after the docstring")
+    if not solution_body(source).strip():
+        raise AuthoringError(f"{where}: the solution of {name} is empty")
+
+
 def _classify(cell, index: int, path: Path) -> AuthoredCell:
     meta = cell.metadata.get("deformlab") or {}
     where = f"{path.name}, cell {index + 1}"
@@ -78,17 +129,19 @@ def _classify(cell, index: int, path: Path) -> AuthoredCell:
         name = meta["solution"]
         if name not in CONTRACT_NAMES:
             raise AuthoringError(f"{where}: solution cell names {name!r}, which is not a contract function")
-        if cell.source.strip():
-            raise AuthoringError(
-                f"{where}: the solution cell for {name} must be empty: the build fills it from reference/"
-            )
-        return AuthoredCell("solution", "", function=name)
+        check_solution_cell(cell.source, name, where)
+        return AuthoredCell("solution", cell.source, function=name)
     if "tests" in meta:
         name = meta["tests"]
         if name not in CONTRACT_NAMES:
             raise AuthoringError(f"{where}: tests cell names {name!r}, which is not a contract function")
         points = float(meta.get("points", 0))
-        if points <= 0:
+        earlier = earlier_stage(path.stem, name)
+        if earlier and points:
+            raise AuthoringError(
+                f"{where}: {name} is graded in {earlier}; its tests cell here takes no points (a bug is charged once)"
+            )
+        if not earlier and points <= 0:
             raise AuthoringError(f"{where}: the tests cell for {name} needs positive points")
         return AuthoredCell("tests", cell.source, function=name, points=points)
     return AuthoredCell("provided", cell.source)
@@ -118,12 +171,12 @@ def read_authored(path: str | Path) -> AuthoredNotebook:
     tested: set[str] = set()
     for i, cell in enumerate(cells):
         where = f"{path.name}, cell {i + 1}"
-        if cell.kind in ("text", "answer", "solution"):
-            if cell.kind == "solution":
-                if cell.function in solved:
-                    raise AuthoringError(f"{where}: a second solution cell for {cell.function}")
-                solved.add(cell.function)
+        if cell.kind in ("text", "answer"):
             continue
+        if cell.kind == "solution":
+            if cell.function in solved:
+                raise AuthoringError(f"{where}: a second solution cell for {cell.function}")
+            solved.add(cell.function)
         try:
             used = referenced_names(cell.source)
             defined = top_level_definitions(cell.source)

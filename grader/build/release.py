@@ -3,8 +3,11 @@
 Checks, each failing the release loudly:
 
 1. the source notebooks execute top to bottom (their hidden sections run the
-   trusted checks) and, graded by the real pipeline, the reference earns every point;
-2. no release file contains reference code, hidden tests or grader internals;
+   trusted checks, which compare the teaching solutions with ``reference/`` on the
+   hidden cases) and, graded by the real pipeline, the teaching solutions earn
+   every point;
+2. no release file contains reference code, teaching solutions, hidden tests or
+   grader internals;
 3. the release notebooks execute with the stubs, where only cells that use a
    contract function fail, every tests cell fails, and a blank submission scores 0;
 4. every autograded cell has points and the stable ``grade_id`` ``test_<function>``;
@@ -14,12 +17,15 @@ Checks, each failing the release loudly:
 
 from __future__ import annotations
 
+import ast
 import gc
+import inspect
 import json
 import os
 import re
 import shutil
 import tempfile
+import textwrap
 import time
 import zipfile
 from dataclasses import dataclass, field
@@ -27,10 +33,9 @@ from pathlib import Path
 
 import nbformat
 
-from grader.build.authored import referenced_names
-from grader.build.lift import lift
-from grader.build.source_notebook import HIDDEN_MARKERS, build_sources
-from grader.contract import ASSIGNMENT, CONTRACT_NAMES, is_bonus
+from grader.build.authored import read_authored, referenced_names, solution_body
+from grader.build.source_notebook import HIDDEN_MARKERS, authored_notebooks, build_sources
+from grader.contract import ASSIGNMENT, CONTRACT_NAMES, is_bonus, reference_function
 from grader.paths import CoursePaths, course_paths
 
 STUDENT_REQUIREMENTS = """numpy>=1.26
@@ -159,15 +164,37 @@ def _readable_text(text: str) -> str:
     return "\n".join(parts)
 
 
-def scan_for_leaks(texts: dict[str, str]) -> list[str]:
-    """Problems for every release text that holds reference code, hidden tests or grader internals.
+def reference_body(name: str) -> str:
+    """The body of ``reference``'s contract function ``name``, after its docstring."""
+    source = inspect.getsource(reference_function(name))
+    func = ast.parse(textwrap.dedent(source)).body[0]
+    first = func.body[1] if ast.get_docstring(func) is not None else func.body[0]
+    return textwrap.dedent("\n".join(textwrap.dedent(source).splitlines()[first.lineno - 1 :]))
+
+
+def teaching_bodies(notebooks_dir: Path, assignment: str) -> dict[str, str]:
+    """``"teaching <function> (<notebook>)"`` -> the body of every solution cell of the authored notebooks."""
+    bodies = {}
+    for path in authored_notebooks(notebooks_dir, assignment):
+        for cell in read_authored(path).cells:
+            if cell.kind == "solution":
+                bodies[f"teaching {cell.function} ({path.stem})"] = solution_body(cell.source)
+    return bodies
+
+
+def scan_for_leaks(texts: dict[str, str], teaching: dict[str, str] | None = None) -> list[str]:
+    """Problems for every release text that holds solution code, hidden tests or grader internals.
 
     Parameters
     ----------
     texts : dict
         Release file name -> its text.
+    teaching : dict, optional
+        Label -> body of a teaching solution (``teaching_bodies``); the bodies of
+        ``reference/`` are always looked for.
     """
-    bodies = {name: _distinctive_lines(lift(name).body) for name in sorted(CONTRACT_NAMES)}
+    solutions = {f"reference {name}": reference_body(name) for name in sorted(CONTRACT_NAMES)} | (teaching or {})
+    bodies = {label: _distinctive_lines(body) for label, body in solutions.items()}
     forbidden = (*HIDDEN_MARKERS, "import reference", "from reference", "BEGIN SOLUTION", "END SOLUTION")
     problems = []
     for fname, text in texts.items():
@@ -180,7 +207,7 @@ def scan_for_leaks(texts: dict[str, str]) -> list[str]:
             leaked = sorted(lines & stripped)
             # One generic line can recur by chance; two lines of one body, or a body's only line, cannot.
             if leaked and len(leaked) >= min(2, len(lines)):
-                problems.append(f"{fname} contains reference code of {name}: {leaked[0]!r} ({len(leaked)} lines)")
+                problems.append(f"{fname} contains the code of {name}: {leaked[0]!r} ({len(leaked)} lines)")
     return problems
 
 
@@ -222,7 +249,7 @@ def check_source_execution(sources: list[Path], report: ReleaseReport, paths: Co
         errors = _errors(_execute(path, env))
         report.timings[f"source {path.stem}"] = time.monotonic() - started
         for i, why in errors.items():
-            report.problems.append(f"source {path.name}, cell {i + 1} fails with the reference: {why}")
+            report.problems.append(f"source {path.name}, cell {i + 1} fails with the teaching solutions: {why}")
 
 
 def check_release_execution(released: list[Path], report: ReleaseReport) -> None:
@@ -264,7 +291,7 @@ def check_grades(sources: list[Path], submission_dir: Path, expect_full: bool, r
     for r in results:
         for t in r["tests"]:
             if expect_full and t["score"] < t["points"]:
-                report.problems.append(f"the reference loses points on {r['notebook']}:{t['grade_id']}: {t['summary']}")
+                report.problems.append(f"the teaching solutions lose points on {r['notebook']}:{t['grade_id']}: {t['summary']}")
             if not expect_full and t["score"] > 0:
                 report.problems.append(f"a blank submission earns {t['score']} on {r['notebook']}:{t['grade_id']}")
 
@@ -351,11 +378,11 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
         for name in z.namelist():
             if name.endswith((".py", ".ipynb", ".md", ".txt")):
                 texts[f"{bundle.name}:{name}"] = z.read(name).decode("utf-8", "replace")
-    report.problems += scan_for_leaks(texts)
+    report.problems += scan_for_leaks(texts, teaching_bodies(paths.notebooks, assignment))
     check_points(sources, report)
     if execute:
         check_source_execution(sources, report, paths)
-        check_grades(sources, paths.source / assignment, True, report, "reference", paths)
+        check_grades(sources, paths.source / assignment, True, report, "teaching", paths)
         check_release_execution(released, report)
         check_grades(sources, paths.release / assignment, False, report, "blank", paths)
         check_demo_execution(demo_notebook(paths), report)
@@ -373,5 +400,5 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
         for p in report.problems:
             print(f"  - {p}")
     else:
-        print("release checks passed: nothing leaked, the reference earns every point, a blank submission earns none")
+        print("release checks passed: nothing leaked, the teaching solutions earn every point, a blank submission earns none")
     return report

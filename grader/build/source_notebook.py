@@ -1,9 +1,11 @@
 """Turn an authored notebook into the nbgrader source (instructor) notebook.
 
-Solution cells are filled from ``reference/`` (``lift``); tests cells get their
+Solution cells are the authored teaching solutions; tests cells get their
 nbgrader grade metadata and a hidden section that runs the trusted checks of
 ``grader/checks`` against the notebook's own functions, so an instructor running
-the source notebook sees the reference earn every point.
+the source notebook sees the teaching solutions match ``reference/`` on the hidden
+cases. The tests cell of a function graded in an earlier stage stays an ungraded
+public check: a bug is charged once.
 """
 
 from __future__ import annotations
@@ -14,7 +16,6 @@ from pathlib import Path
 import nbformat
 
 from grader.build.authored import AuthoredNotebook, AuthoringError, read_authored
-from grader.build.lift import lift
 
 BEGIN_HIDDEN = "### BEGIN HIDDEN TESTS"
 END_HIDDEN = "### END HIDDEN TESTS"
@@ -30,6 +31,10 @@ def tests_grade_id(function: str) -> str:
 
 def solution_grade_id(function: str) -> str:
     return f"solution_{function}"
+
+
+def public_check_id(function: str) -> str:
+    return f"public_check_{function}"
 
 
 def answer_grade_id(answer_id: str) -> str:
@@ -57,19 +62,11 @@ def hidden_section(function: str) -> str:
 
 
 def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
-    """Assemble the nbgrader source notebook of an authored notebook.
-
-    Raises
-    ------
-    AuthoringError
-        If a lifted reference function calls a contract function that has no
-        earlier solution cell in this notebook.
-    """
+    """Assemble the nbgrader source notebook of an authored notebook."""
     nb = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = dict(KERNELSPEC)
     nb.metadata["language_info"] = {"name": "python"}
     nb.metadata["deformlab"] = {"notebook": authored.name}
-    solved: set[str] = set()
     provided = 0
     for cell in authored.cells:
         if cell.kind == "text":
@@ -91,18 +88,16 @@ def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
                 )
             )
         elif cell.kind == "solution":
-            lifted = lift(cell.function)
-            missing = sorted(lifted.calls - solved)
-            if missing:
-                raise AuthoringError(
-                    f"{authored.path.name}: reference {cell.function} calls {', '.join(missing)}, "
-                    "which need their own solution cells earlier in this notebook"
-                )
-            solved.add(cell.function)
             nb.cells.append(
                 nbformat.v4.new_code_cell(
-                    lifted.source,
+                    cell.source,
                     metadata=_nbgrader(solution_grade_id(cell.function), grade=False, solution=True, locked=False),
+                )
+            )
+        elif cell.kind == "tests" and not cell.points:
+            nb.cells.append(
+                nbformat.v4.new_code_cell(
+                    cell.source, metadata=_nbgrader(public_check_id(cell.function), grade=False, solution=False, locked=True)
                 )
             )
         elif cell.kind == "tests":

@@ -93,6 +93,28 @@ plotting.show_meshes([(V_square, F_square), (V_ring, F_ring)], titles=["square",
 # two triangles and every triangle has three edges, so $2E = 3F$.
 
 # %% deformlab={"solution": "edges"}
+import numpy as np
+
+
+def edges(F):
+    """Every undirected edge of a triangle mesh, once.
+
+    Parameters
+    ----------
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    E : (e, 2) numpy.ndarray of int
+        One row ``[i, j]`` per edge with ``i < j``, rows sorted lexicographically.
+    """
+    ### BEGIN SOLUTION
+    F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
+    directed = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])  # the 3f half-edges
+    # Sorting each row forgets the direction; np.unique drops the repeats and sorts the rows.
+    return np.unique(np.sort(directed, axis=1), axis=0)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "edges", "points": 3}
 _E = edges(F_square)
@@ -160,6 +182,23 @@ print("same edges after shuffling the triangles and turning their corners:", np.
 # `euler_characteristic(V, F)` returns $\chi$ as a Python `int` (use your `edges`).
 
 # %% deformlab={"solution": "euler_characteristic"}
+def euler_characteristic(V, F):
+    """The Euler characteristic ``χ = V - E + F`` of a triangle mesh.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    chi : int
+    """
+    ### BEGIN SOLUTION
+    return int(len(V) - len(edges(F)) + len(F))
+    ### END SOLUTION
 
 # %% deformlab={"tests": "euler_characteristic", "points": 2}
 _chi = euler_characteristic(V_tet, F_tet)
@@ -207,6 +246,39 @@ for name in ["bar_coarse", "bar", "bar_fine"]:
 # has four boundary edges but one boundary loop.
 
 # %% deformlab={"solution": "boundary_loop_count"}
+import numpy as np
+import scipy.sparse
+import scipy.sparse.csgraph
+
+
+def boundary_loop_count(F):
+    """The number of boundary loops of an edge-manifold triangle mesh.
+
+    Parameters
+    ----------
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    b : int
+        Connected components of the graph of boundary edges (edges of one triangle only).
+    """
+    ### BEGIN SOLUTION
+    F = np.asarray(F, dtype=np.int64).reshape(-1, 3)
+    half = np.sort(np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    edge, count = np.unique(half, axis=0, return_counts=True)
+    boundary = edge[count == 1]
+    if len(boundary) == 0:
+        return 0
+    # Number the boundary vertices 0..k-1: an interior vertex in the graph would be a "loop" of its own.
+    vertices, local = np.unique(boundary, return_inverse=True)
+    local = local.reshape(boundary.shape)
+    k = len(vertices)
+    A = scipy.sparse.coo_matrix((np.ones(len(local)), (local[:, 0], local[:, 1])), shape=(k, k))
+    loops, _ = scipy.sparse.csgraph.connected_components(A, directed=False)
+    return int(loops)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "boundary_loop_count", "points": 3}
 _b = boundary_loop_count(F_square)
@@ -250,6 +322,32 @@ assert _b == 4, (
 # is even on every orientable surface, so integer division is exact.
 
 # %% deformlab={"solution": "genus"}
+import numpy as np
+import scipy.sparse
+import scipy.sparse.csgraph
+
+
+def genus(V, F):
+    """The total genus ``g`` of an orientable manifold triangle mesh, from ``χ = 2(c - g) - b``.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions (every vertex is used by a triangle).
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    g : int
+    """
+    ### BEGIN SOLUTION
+    n = len(V)
+    E = edges(F)
+    A = scipy.sparse.coo_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(n, n))
+    c, _ = scipy.sparse.csgraph.connected_components(A, directed=False)  # connected components
+    return int((2 * c - boundary_loop_count(F) - euler_characteristic(V, F)) // 2)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "genus", "points": 3}
 _g = genus(V_tet, F_tet)

@@ -92,6 +92,30 @@ plotting.show_points(P, Q, title="source P and target Q")
 # are $1$. One line of numpy does it (a product with `@`, or `np.average`).
 
 # %% deformlab={"solution": "centroid"}
+import numpy as np
+
+
+def centroid(P, w=None):
+    """The weighted mean of a point set.
+
+    Parameters
+    ----------
+    P : (k, d) array_like of float
+        Points.
+    w : (k,) array_like of float, optional
+        Non-negative weights, not all zero; all ones by default.
+
+    Returns
+    -------
+    p_bar : (d,) numpy.ndarray
+        ``Σ w_i p_i / Σ w_i``.
+    """
+    ### BEGIN SOLUTION
+    P = np.asarray(P, dtype=float)
+    w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
+    w = w / np.sum(w)  # dividing first keeps very large or very small weights in range
+    return w @ P
+    ### END SOLUTION
 
 # %% deformlab={"tests": "centroid", "points": 2}
 _P = np.array([[0.0, 0.0], [4.0, 0.0], [0.0, 2.0], [4.0, 2.0]])
@@ -143,6 +167,31 @@ assert np.allclose(_c, [3.0, 0.0]), (
 # the transpose of $S$ is the covariance of the reverse problem, mapping $Q$ to $P$.
 
 # %% deformlab={"solution": "covariance_matrix"}
+import numpy as np
+
+
+def covariance_matrix(P, Q, w=None):
+    """The weighted covariance ``S = Σ w_i (p_i - p̄)(q_i - q̄)ᵀ`` of two corresponding point sets.
+
+    Parameters
+    ----------
+    P, Q : (k, d) array_like of float
+        Source and target points, row ``i`` of ``P`` corresponding to row ``i`` of ``Q``.
+    w : (k,) array_like of float, optional
+        Non-negative weights; all ones by default. ``p̄`` and ``q̄`` are the weighted centroids.
+
+    Returns
+    -------
+    S : (d, d) numpy.ndarray
+    """
+    ### BEGIN SOLUTION
+    P, Q = np.asarray(P, dtype=float), np.asarray(Q, dtype=float)
+    w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
+    P_centred = P - centroid(P, w)
+    Q_centred = Q - centroid(Q, w)
+    # Σ_i w_i p̃_i q̃_iᵀ as one matrix product: (w_i p̃_i) as columns times q̃_i as rows
+    return (w[:, None] * P_centred).T @ Q_centred
+    ### END SOLUTION
 
 # %% deformlab={"tests": "covariance_matrix", "points": 3}
 _P = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 2.0], [0.0, -2.0]])
@@ -179,19 +228,20 @@ assert np.allclose(_S, 2 * _expected), (
 #
 # Take the singular value decomposition
 #
-# $$S = U \Sigma \tilde V^\top, \qquad U, \tilde V \text{ orthogonal}, \qquad
+# $$S = \tilde U \Sigma \tilde V^\top, \qquad \tilde U, \tilde V \text{ orthogonal}, \qquad
 # \Sigma = \operatorname{diag}(\sigma_1, \dots, \sigma_d), \quad \sigma_1 \ge \dots \ge \sigma_d \ge 0$$
 #
-# (the tilde keeps $\tilde V$ apart from the vertex array `V`). Then, using the
+# (the tildes keep the SVD's factors $\tilde U, \tilde V$ apart from the
+# positions `U` and `V` of a mesh). Then, using the
 # cyclic invariance of the trace once more,
 #
-# $$\operatorname{tr}(R S) = \operatorname{tr}(R\, U \Sigma \tilde V^\top)
-# = \operatorname{tr}(\Sigma\, \tilde V^\top R\, U) = \operatorname{tr}(\Sigma M)
+# $$\operatorname{tr}(R S) = \operatorname{tr}(R\, \tilde U \Sigma \tilde V^\top)
+# = \operatorname{tr}(\Sigma\, \tilde V^\top R\, \tilde U) = \operatorname{tr}(\Sigma M)
 # = \sum_{i=1}^d \sigma_i\, m_{ii},
-# \qquad M = \tilde V^\top R\, U.$$
+# \qquad M = \tilde V^\top R\, \tilde U.$$
 #
 # $M$ is a product of orthogonal matrices, hence orthogonal, and every orthogonal
-# $M$ comes from exactly one $R = \tilde V M U^\top$: maximizing over $R$ is
+# $M$ comes from exactly one $R = \tilde V M \tilde U^\top$: maximizing over $R$ is
 # maximizing over $M$. The columns of an orthogonal matrix are unit vectors, so
 # $|m_{ii}| \le 1$ and, since $\sigma_i \ge 0$,
 #
@@ -199,7 +249,7 @@ assert np.allclose(_S, 2 * _expected), (
 #
 # The bound is reached by $M = I$, that is
 #
-# $$\boxed{R = \tilde V U^\top}$$
+# $$\boxed{R = \tilde V \tilde U^\top}$$
 #
 # When every $\sigma_i > 0$ it is the only maximizer (equality forces every
 # $m_{ii} = 1$, hence $M = I$). When $\sigma_d = 0$ (all points on a line in 2D,
@@ -207,15 +257,36 @@ assert np.allclose(_S, 2 * _expected), (
 # of them is a correct answer.
 #
 # `optimal_orthogonal(S)` returns $R$, shape `(d, d)`. Careful with numpy:
-# `U, sigma, Vt = np.linalg.svd(S)` returns `S = U @ np.diag(sigma) @ Vt`, so its
+# `U_tilde, sigma, V_tilde_T = np.linalg.svd(S)` returns
+# `S = U_tilde @ np.diag(sigma) @ V_tilde_T`, so its
 # third output is already $\tilde V^\top$. Mixing that up gives the transpose
-# $R^\top = U \tilde V^\top$, the best map from $Q$ back to $P$.
+# $R^\top = \tilde U \tilde V^\top$, the best map from $Q$ back to $P$.
 #
 # Note what the derivation did **not** use: $\det R = +1$. Nothing stops
-# $\tilde V U^\top$ from being a reflection; that is the subject of stage 02.
-# Here, return $\tilde V U^\top$ as it is.
+# $\tilde V \tilde U^\top$ from being a reflection; that is the subject of stage 02.
+# Here, return $\tilde V \tilde U^\top$ as it is.
 
 # %% deformlab={"solution": "optimal_orthogonal"}
+import numpy as np
+
+
+def optimal_orthogonal(S):
+    """The orthogonal matrix maximizing ``tr(R S)`` (it may be a reflection).
+
+    Parameters
+    ----------
+    S : (d, d) array_like of float
+        A covariance matrix, ``S = Ũ Σ Ṽᵀ`` its SVD.
+
+    Returns
+    -------
+    R : (d, d) numpy.ndarray
+        ``R = Ṽ Ũᵀ``.
+    """
+    ### BEGIN SOLUTION
+    U_tilde, sigma, V_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))  # S = Ũ Σ Ṽᵀ
+    return V_tilde_T.T @ U_tilde.T  # R = Ṽ Ũᵀ
+    ### END SOLUTION
 
 # %% deformlab={"tests": "optimal_orthogonal", "points": 3}
 _S = np.array([[0.0, 2.0], [-8.0, 0.0]])  # the covariance of the 90-degree example above
@@ -226,7 +297,7 @@ assert np.allclose(_R.T @ _R, np.eye(2), atol=1e-10), f"R must be orthogonal, bu
 assert np.allclose(_R, _R90, atol=1e-10), (
     f"S comes from points turned by 90 degrees, so R should be {np.round(_R90, 6).tolist()}, "
     f"got {np.round(_R, 6).tolist()}"
-    + (": that is the transpose; R = Ṽ Uᵀ and np.linalg.svd returns Ṽᵀ as its third output" if np.allclose(_R, _R90.T) else "")
+    + (": that is the transpose; R = Ṽ Ũᵀ and np.linalg.svd returns Ṽᵀ as its third output" if np.allclose(_R, _R90.T) else "")
 )
 
 _S = np.random.default_rng(1).normal(size=(3, 3))
@@ -235,7 +306,7 @@ _best = np.linalg.svd(_S, compute_uv=False).sum()
 assert np.allclose(_R.T @ _R, np.eye(3), atol=1e-10), f"R must be orthogonal, but RᵀR = {np.round(_R.T @ _R, 6).tolist()}"
 assert np.isclose(np.trace(_R @ _S), _best, atol=1e-10), (
     f"tr(R S) = {np.trace(_R @ _S):.6f}, but the maximum over orthogonal R is the sum of the singular values "
-    f"of S, {_best:.6f}: check R = Ṽ Uᵀ"
+    f"of S, {_best:.6f}: check R = Ṽ Ũᵀ"
 )
 
 _S = np.diag([3.0, 2.0, -1.0])
@@ -254,6 +325,28 @@ assert np.allclose(_R, np.diag([1.0, 1.0, -1.0]), atol=1e-10), (
 # Use your three functions.
 
 # %% deformlab={"solution": "orthogonal_align"}
+def orthogonal_align(P, Q, w=None):
+    """The orthogonal map and translation that best move ``P`` onto ``Q``.
+
+    Parameters
+    ----------
+    P, Q : (k, d) array_like of float
+        Corresponding source and target points.
+    w : (k,) array_like of float, optional
+        Non-negative weights; all ones by default.
+
+    Returns
+    -------
+    R : (d, d) numpy.ndarray
+        Orthogonal (possibly a reflection).
+    t : (d,) numpy.ndarray
+        Together minimizing ``Σ w_i ‖R p_i + t - q_i‖²``.
+    """
+    ### BEGIN SOLUTION
+    R = optimal_orthogonal(covariance_matrix(P, Q, w))
+    t = centroid(Q, w) - R @ centroid(P, w)  # the best t for any fixed R
+    return R, t
+    ### END SOLUTION
 
 # %% deformlab={"tests": "orthogonal_align", "points": 3}
 _P = np.random.default_rng(2).normal(size=(10, 3))
@@ -268,7 +361,7 @@ assert np.shape(_R) == (3, 3) and np.shape(_t) == (3,), (
 )
 assert np.allclose(_R, _R0, atol=1e-8), (
     f"Q is P moved rigidly by R0 = {np.round(_R0, 4).tolist()}: expected R = R0, got {np.round(_R, 4).tolist()}"
-    + (": that is R0ᵀ, check the order in S and R = Ṽ Uᵀ" if np.allclose(_R, _R0.T, atol=1e-8) else "")
+    + (": that is R0ᵀ, check the order in S and R = Ṽ Ũᵀ" if np.allclose(_R, _R0.T, atol=1e-8) else "")
 )
 assert np.allclose(_t, _t0, atol=1e-8), (
     f"expected t = {_t0.tolist()}, got {np.round(_t, 6).tolist()}"
@@ -317,13 +410,13 @@ print(f"det R = {np.linalg.det(R):+.3f}; RMS distance to the mirrored target: {r
 plotting.show_points(P, Q_mirror, P @ R.T + t, title=f"mirrored target: det R = {np.linalg.det(R):+.0f}")
 
 # %% [markdown]
-# **Question.** When does the optimal orthogonal map $\tilde V U^\top$ turn out to
+# **Question.** When does the optimal orthogonal map $\tilde V \tilde U^\top$ turn out to
 # be a reflection ($\det = -1$)? Why is that bad when we use shape matching to
 # deform a shape (think of the local step of ARAP, which fits one such map to the
 # neighbourhood of every vertex)? Answer in a few sentences in the cell below.
 
 # %% [markdown] deformlab={"answer": "reflection", "points": 2}
-# $\det(\tilde V U^\top) = -1$ whenever a mirror image explains the data at least as
+# $\det(\tilde V \tilde U^\top) = -1$ whenever a mirror image explains the data at least as
 # well as any rotation: (1) the target really is (close to) a mirror image of the
 # source, e.g. a neighbourhood that was flipped or folded over; (2) the data are
 # degenerate, all points on a line in 2D or in a plane in 3D: then
@@ -332,8 +425,14 @@ plotting.show_points(P, Q_mirror, P @ R.T + t, title=f"mirrored target: det R = 
 # of $\det$, is an accident of the SVD; (3) nearly degenerate data plus noise (or
 # a large deformation), where $\sigma_d$ is tiny and the noise decides the sign.
 # It is bad for deformation because a reflection is not a motion of a physical
-# body: it turns the local frame inside out. In ARAP the local step would ask the
-# global step to make each such neighbourhood a mirror image of its rest shape,
-# producing flipped (inverted) triangles, folds and normals pointing inward, and
-# the rotation can jump between a rotation and a reflection from one iteration to
-# the next. We want the best *rotation*, $\det R = +1$.
+# body: it turns the local frame inside out. Where a mirror image really fits
+# better (case 1, and every non-flat cell), ARAP's local step would ask the
+# global step to make the neighbourhood a mirror image of its rest shape:
+# flipped (inverted) triangles and folds. For a flat cell (case 2: a planar
+# neighbourhood of a surface in 3D) the mirror across the cell's own plane leaves
+# every edge of the cell unchanged, so the reflection flips nothing there; but
+# which of the two the SVD returns is then an accident (case 3: decided by noise),
+# it can change from one iteration or one vertex to the next, and a reflection
+# sends the normal to its opposite, which the neighbouring, non-flat cells then
+# have to fight. We want the best *rotation*, $\det R = +1$, the motion of a
+# rigid body.

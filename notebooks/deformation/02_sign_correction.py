@@ -17,8 +17,8 @@
 #
 # $$E(R, t) = \sum_i w_i \,\lVert R p_i + t - q_i \rVert^2 :$$
 #
-# $t = \bar q - R \bar p$, and $R = \tilde V U^\top$ maximizes $\operatorname{tr}(RS)$,
-# where $S = \sum_i w_i\, \tilde p_i \tilde q_i^\top = U \Sigma \tilde V^\top$ is the
+# $t = \bar q - R \bar p$, and $R = \tilde V \tilde U^\top$ maximizes $\operatorname{tr}(RS)$,
+# where $S = \sum_i w_i\, \tilde p_i \tilde q_i^\top = \tilde U \Sigma \tilde V^\top$ is the
 # covariance matrix of the centred points. That $R$ is orthogonal, and it may be a
 # **reflection**, $\det R = -1$. A deformation needs **rotations**
 # ($R^\top R = I$ and $\det R = +1$). This notebook finds out when the reflection
@@ -28,7 +28,9 @@
 # replacing `raise NotImplementedError()`, then run the tests cell under it.
 # Those tests are there to help you; your functions are graded on more inputs
 # than they show. Each notebook stands on its own, so the first two functions are
-# the ones you wrote in stage 01: copy them over.
+# the ones you wrote in stage 01: copy them over. They were graded in stage 01;
+# here their tests only help you check the copy, and a mistake in them costs no
+# points twice.
 
 # %%
 import numpy as np
@@ -57,8 +59,32 @@ def rotation_3d(axis, angle):
 # `centroid(P, w=None)` returns the weighted mean $\bar p = \sum_i w_i p_i / \sum_i w_i$, shape `(d,)`.
 
 # %% deformlab={"solution": "centroid"}
+import numpy as np
 
-# %% deformlab={"tests": "centroid", "points": 1}
+
+def centroid(P, w=None):
+    """The weighted mean of a point set.
+
+    Parameters
+    ----------
+    P : (k, d) array_like of float
+        Points.
+    w : (k,) array_like of float, optional
+        Non-negative weights, not all zero; all ones by default.
+
+    Returns
+    -------
+    p_bar : (d,) numpy.ndarray
+        ``Σ w_i p_i / Σ w_i``.
+    """
+    ### BEGIN SOLUTION
+    P = np.asarray(P, dtype=float)
+    w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
+    w = w / np.sum(w)  # dividing first keeps very large or very small weights in range
+    return w @ P
+    ### END SOLUTION
+
+# %% deformlab={"tests": "centroid"}
 _P = np.array([[0.0, 0.0], [4.0, 0.0], [0.0, 2.0], [4.0, 2.0]])
 _c = centroid(_P)
 assert np.shape(_c) == (2,) and np.allclose(_c, [2.0, 1.0]), (
@@ -75,8 +101,33 @@ assert np.allclose(_c, [3.0, 0.0]), (
 # shape `(d, d)`, with the weighted centroids.
 
 # %% deformlab={"solution": "covariance_matrix"}
+import numpy as np
 
-# %% deformlab={"tests": "covariance_matrix", "points": 1}
+
+def covariance_matrix(P, Q, w=None):
+    """The weighted covariance ``S = Σ w_i (p_i - p̄)(q_i - q̄)ᵀ`` of two corresponding point sets.
+
+    Parameters
+    ----------
+    P, Q : (k, d) array_like of float
+        Source and target points, row ``i`` of ``P`` corresponding to row ``i`` of ``Q``.
+    w : (k,) array_like of float, optional
+        Non-negative weights; all ones by default. ``p̄`` and ``q̄`` are the weighted centroids.
+
+    Returns
+    -------
+    S : (d, d) numpy.ndarray
+    """
+    ### BEGIN SOLUTION
+    P, Q = np.asarray(P, dtype=float), np.asarray(Q, dtype=float)
+    w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
+    P_centred = P - centroid(P, w)
+    Q_centred = Q - centroid(Q, w)
+    # Σ_i w_i p̃_i q̃_iᵀ as one matrix product: (w_i p̃_i) as columns times q̃_i as rows
+    return (w[:, None] * P_centred).T @ Q_centred
+    ### END SOLUTION
+
+# %% deformlab={"tests": "covariance_matrix"}
 _P = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 2.0], [0.0, -2.0]])
 _Q = _P @ rotation_2d(np.pi / 2).T
 _S = covariance_matrix(_P + [5.0, -1.0], _Q + [10.0, 3.0])
@@ -92,7 +143,7 @@ assert np.allclose(_S, [[2.0, 1.0], [-4.0, -2.0]]), (
 # %% [markdown]
 # ## 1. When is the best orthogonal map a reflection?
 #
-# $\det(\tilde V U^\top) = \det \tilde V \det U = \pm 1$, and which sign comes out
+# $\det(\tilde V \tilde U^\top) = \det \tilde V \det \tilde U = \pm 1$, and which sign comes out
 # depends on the data:
 #
 # - **Mirrored data.** If the target is (close to) a mirror image of the source,
@@ -105,7 +156,7 @@ assert np.allclose(_S, [[2.0, 1.0], [-4.0, -2.0]]), (
 #   mirror across that plane (or line), $H = I - 2 n n^\top$, fixes every
 #   $\tilde p_i$, so $R$ and $R H$ move the points identically and fit equally
 #   well, yet $\det(RH) = -\det R$. The SVD has to pick a sign for the singular vectors of
-#   $\sigma_d = 0$, and nothing in the data prefers one: $\det(\tilde V U^\top)$ is
+#   $\sigma_d = 0$, and nothing in the data prefers one: $\det(\tilde V \tilde U^\top)$ is
 #   an accident of the algorithm.
 # - **Noise.** Nearly degenerate data (a flat patch of a surface, a thin
 #   neighbourhood) have a tiny $\sigma_d$, and a little noise, or a large
@@ -133,7 +184,7 @@ for label, R_candidate in [("R0    ", R0), ("R0 H  ", R0 @ H)]:
 # %% [markdown]
 # And noise: give the flat character a thickness of about $0.001$ (it is about
 # $2$ tall), move it by $R_0$, perturb the targets, and count how often the best
-# orthogonal map $\tilde V U^\top$ comes out as a reflection.
+# orthogonal map $\tilde V \tilde U^\top$ comes out as a reflection.
 
 # %%
 P_thin = P3 + np.column_stack([np.zeros((len(P3), 2)), 0.001 * rng.standard_normal(len(P3))])
@@ -142,8 +193,8 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
     reflections = 0
     for trial in range(trials):
         Q_noisy = P_thin @ R0.T + noise * rng.standard_normal(P_thin.shape)
-        U, sigma, Vt = np.linalg.svd(covariance_matrix(P_thin, Q_noisy))
-        reflections += np.linalg.det(Vt.T @ U.T) < 0
+        U_tilde, sigma, V_tilde_T = np.linalg.svd(covariance_matrix(P_thin, Q_noisy))
+        reflections += np.linalg.det(V_tilde_T.T @ U_tilde.T) < 0
     print(f"noise {noise:5.3f}: sigma_3 = {sigma[2]:.1e}, a reflection in {reflections / trials:4.0%} of {trials} trials")
 
 # %% [markdown]
@@ -151,11 +202,11 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
 #
 # We now maximize $\operatorname{tr}(RS)$ over rotations only. As in stage 01,
 # write $\operatorname{tr}(RS) = \operatorname{tr}(\Sigma M) = \sum_i \sigma_i m_{ii}$
-# with $M = \tilde V^\top R\, U$. For a rotation,
+# with $M = \tilde V^\top R\, \tilde U$. For a rotation,
 #
-# $$\det M = \det \tilde V^\top \det R \det U = \det(\tilde V U^\top) =: s .$$
+# $$\det M = \det \tilde V^\top \det R \det \tilde U = \det(\tilde V \tilde U^\top) =: s .$$
 #
-# **If $s = +1$**, $M = I$ is allowed, and $R = \tilde V U^\top$ is already a
+# **If $s = +1$**, $M = I$ is allowed, and $R = \tilde V \tilde U^\top$ is already a
 # rotation: nothing to correct.
 #
 # **If $s = -1$**, we must maximize $\sum_i \sigma_i m_{ii}$ over orthogonal $M$
@@ -174,10 +225,10 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
 # The bound is reached by $M = \operatorname{diag}(1, \dots, 1, -1)$. Both cases
 # together:
 #
-# $$\boxed{R = \tilde V \operatorname{diag}\big(1, \dots, 1, \det(\tilde V U^\top)\big)\, U^\top}$$
+# $$\boxed{R = \tilde V \operatorname{diag}\big(1, \dots, 1, \det(\tilde V \tilde U^\top)\big)\, \tilde U^\top}$$
 #
 # In words: **flip the sign of the singular vector of the smallest singular value**
-# (the last column of $\tilde V$; flipping the last column of $U$ instead gives the
+# (the last column of $\tilde V$; flipping the last column of $\tilde U$ instead gives the
 # same $R$). Compared with the best orthogonal map, $\operatorname{tr}(RS)$ drops
 # by $2\sigma_d$, the least any rotation can lose: flipping the direction of
 # $\sigma_i$ instead would lose $2\sigma_i \ge 2\sigma_d$. In the degenerate case
@@ -193,6 +244,32 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
 # the singular values in decreasing order, so the smallest is the last.
 
 # %% deformlab={"solution": "optimal_rotation"}
+import numpy as np
+
+
+def optimal_rotation(S):
+    """The rotation maximizing ``tr(R S)``, for one matrix or a stack of them.
+
+    Parameters
+    ----------
+    S : (d, d) or (k, d, d) array_like of float
+        Covariance matrix or matrices, ``S = Ũ Σ Ṽᵀ``.
+
+    Returns
+    -------
+    R : numpy.ndarray, the shape of ``S``
+        ``R = Ṽ diag(1, …, 1, det(Ṽ Ũᵀ)) Ũᵀ``: orthogonal with ``det R = +1``.
+    """
+    ### BEGIN SOLUTION
+    # np.linalg.svd and det act on the last two axes, so one code path serves (d, d) and (k, d, d).
+    U_tilde, sigma, V_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))
+    V_tilde = np.swapaxes(V_tilde_T, -1, -2).copy()
+    U_tilde_T = np.swapaxes(U_tilde, -1, -2)
+    sign = np.where(np.linalg.det(V_tilde @ U_tilde_T) < 0, -1.0, 1.0)  # -1 where Ṽ Ũᵀ is a reflection
+    # Flip the singular vector of the smallest singular value (numpy's last column): the cheapest fix.
+    V_tilde[..., -1] *= sign[..., None]
+    return V_tilde @ U_tilde_T
+    ### END SOLUTION
 
 # %% deformlab={"tests": "optimal_rotation", "points": 4}
 _S = np.diag([3.0, 2.0, -1.0])
@@ -212,18 +289,22 @@ _R = optimal_rotation(_S)
 assert np.allclose(_R, rotation_2d(np.pi / 2), atol=1e-10), (
     f"S = [[0, 2], [-8, 0]] comes from points turned by 90 degrees: expected R = [[0, -1], [1, 0]], "
     f"got {np.round(_R, 6).tolist()}"
+    + (": that is the transpose; R = Ṽ D Ũᵀ, and np.linalg.svd's third output is already Ṽᵀ"
+       if np.allclose(_R, rotation_2d(np.pi / 2).T, atol=1e-10) else "")
 )
 
 _S = np.array([[0.3, -1.2, 0.5], [0.9, 0.4, -0.7], [-0.2, 0.8, 0.6]])
-_S = _S * np.array([1.0, 1.0, -1.0])  # det S < 0, so det(Ṽ Uᵀ) = -1: the sign needs correcting
+_S = _S * np.array([1.0, 1.0, -1.0])  # det S < 0, so det(Ṽ Ũᵀ) = -1: the sign needs correcting
 _sigma = np.linalg.svd(_S, compute_uv=False)
 _R = optimal_rotation(_S)
 assert np.allclose(_R.T @ _R, np.eye(3), atol=1e-10), f"R must be orthogonal, but RᵀR = {np.round(_R.T @ _R, 6).tolist()}"
 assert abs(np.linalg.det(_R) - 1) < 1e-8, f"det(R) = {np.linalg.det(_R):.6f}, a rotation has det +1: did you correct the sign?"
 assert np.isclose(np.trace(_R @ _S), _sigma[0] + _sigma[1] - _sigma[2], atol=1e-10), (
     f"tr(R S) = {np.trace(_R @ _S):.6f}, but the best rotation reaches sigma_1 + sigma_2 - sigma_3 = "
-    f"{_sigma[0] + _sigma[1] - _sigma[2]:.6f}: flip the singular vector of the smallest singular value "
-    "(numpy's last), and check R = Ṽ D Uᵀ"
+    f"{_sigma[0] + _sigma[1] - _sigma[2]:.6f}: "
+    + ("you return the transpose of the best rotation (Rᵀ reaches it); R = Ṽ D Ũᵀ"
+       if np.isclose(np.trace(_R.T @ _S), _sigma[0] + _sigma[1] - _sigma[2], atol=1e-10)
+       else "flip the singular vector of the smallest singular value (numpy's last), and check R = Ṽ D Ũᵀ")
 )
 
 _stack = np.random.default_rng(3).normal(size=(6, 3, 3))
@@ -250,6 +331,28 @@ assert np.shape(_R) == (2, 2, 2) and np.allclose(_R, np.eye(2), atol=1e-10), (
 # derivation held for any fixed $R$).
 
 # %% deformlab={"solution": "rigid_align"}
+def rigid_align(P, Q, w=None):
+    """The rotation and translation that best move ``P`` onto ``Q``.
+
+    Parameters
+    ----------
+    P, Q : (k, d) array_like of float
+        Corresponding source and target points.
+    w : (k,) array_like of float, optional
+        Non-negative weights; all ones by default.
+
+    Returns
+    -------
+    R : (d, d) numpy.ndarray
+        A rotation (``det R = +1``).
+    t : (d,) numpy.ndarray
+        Together minimizing ``Σ w_i ‖R p_i + t - q_i‖²`` over rotations.
+    """
+    ### BEGIN SOLUTION
+    R = optimal_rotation(covariance_matrix(P, Q, w))
+    t = centroid(Q, w) - R @ centroid(P, w)
+    return R, t
+    ### END SOLUTION
 
 # %% deformlab={"tests": "rigid_align", "points": 3}
 _P = np.random.default_rng(4).normal(size=(12, 3))
@@ -261,6 +364,8 @@ _R, _t = _out
 assert np.allclose(_R, _R0, atol=1e-8) and np.allclose(_t, _t0, atol=1e-8), (
     f"Q is P rotated by R0 and translated by t0: expected (R0, t0), got R = {np.round(_R, 4).tolist()}, "
     f"t = {np.round(_t, 4).tolist()}"
+    + (": R is R0 transposed; is S built as Σ w p̃ q̃ᵀ (P first), and R = Ṽ D Ũᵀ?" if np.allclose(_R, _R0.T, atol=1e-8)
+       else ": R is right, so check t = q̄ - R p̄" if np.allclose(_R, _R0, atol=1e-8) else "")
 )
 
 _H = np.diag([1.0, 1.0, -1.0])
@@ -302,34 +407,35 @@ assert np.allclose(_R, _R0, atol=1e-8) and np.allclose(_t, _t0, atol=1e-8), (
 # %%
 size = np.linalg.norm(P2.max(axis=0) - P2.min(axis=0))
 Q_mirror = P2 * np.array([-1.0, 1.0]) + np.array([1.2, 0.0]) * size
-U, sigma, Vt = np.linalg.svd(covariance_matrix(P2, Q_mirror))
-R_orth = Vt.T @ U.T
+U_tilde, sigma, V_tilde_T = np.linalg.svd(covariance_matrix(P2, Q_mirror))
+R_orth = V_tilde_T.T @ U_tilde.T
 t_orth = Q_mirror.mean(axis=0) - R_orth @ P2.mean(axis=0)
 R, t = rigid_align(P2, Q_mirror)
 print(f"singular values of S: {sigma}")
-print(f"best orthogonal map: det = {np.linalg.det(R_orth):+.0f}, tr(R S) = {np.trace(R_orth @ U @ np.diag(sigma) @ Vt):.4f}")
-print(f"best rotation:       det = {np.linalg.det(R):+.0f}, tr(R S) = {np.trace(R @ U @ np.diag(sigma) @ Vt):.4f}"
+print(f"best orthogonal map: det = {np.linalg.det(R_orth):+.0f}, tr(R S) = {np.trace(R_orth @ U_tilde @ np.diag(sigma) @ V_tilde_T):.4f}")
+print(f"best rotation:       det = {np.linalg.det(R):+.0f}, tr(R S) = {np.trace(R @ U_tilde @ np.diag(sigma) @ V_tilde_T):.4f}"
       f"  (= sigma_1 - sigma_2 = {sigma[0] - sigma[1]:.4f})")
 plotting.show_points(P2, Q_mirror, P2 @ R_orth.T + t_orth, title="best orthogonal map: a reflection, det = -1")
 plotting.show_points(P2, Q_mirror, P2 @ R.T + t, title="best rotation: det = +1")
 
 # %% [markdown]
-# **Question.** Why is flipping the sign of the singular vector of the
-# *smallest* singular value the least costly way to turn the best orthogonal map
-# into a rotation? How much of $\operatorname{tr}(RS)$ does it cost, and when does
-# it cost nothing? Answer in a few sentences in the cell below.
+# **Question.** In the noise experiment of §1, the best orthogonal map of the thin
+# character comes out as a reflection in many trials, and then the sign
+# correction changes $R$. How much does the correction cost in those trials
+# compared with the fit itself, and why can $R$ nevertheless change a lot? What
+# goes wrong when *two* singular values vanish (all points on a line in 3D), and
+# does the sign correction help there?
 
 # %% [markdown] deformlab={"answer": "least_costly_flip", "points": 2}
-# With $M = \tilde V^\top R U$, $\operatorname{tr}(RS) = \sum_i \sigma_i m_{ii}$, and
-# the unconstrained optimum $M = I$ has $\det M = \det(\tilde V U^\top) = -1$ in
-# the bad case. A rotation $R$ forces $\det M = -1$, so $M$ cannot be $I$: the
-# diagonal entries $m_{ii} \le 1$ must give something up, and at best (as the
-# bound $\operatorname{tr} M \le d - 2$ shows) exactly one of them goes from $+1$ to
-# $-1$. Turning $m_{ii}$ from $+1$ to $-1$ costs $2\sigma_i$, so the cheapest choice
-# is the direction with the smallest singular value: the loss is $2\sigma_d$ and
-# $\operatorname{tr}(RS) = \sigma_1 + \dots + \sigma_{d-1} - \sigma_d$. $\sigma_d$
-# measures how much the data constrain that direction, the least of all
-# directions, so flipping it changes the fit least. When $\sigma_d = 0$ (flat
-# data in 3D, collinear in 2D) the flip costs nothing: the reflection and the
-# rotation fit equally well and the correction only picks the rotation. Flipping
-# any other singular vector would cost $2\sigma_i \ge 2\sigma_d$.
+# The correction costs 2σ_3 of tr(RS), so E grows by 4σ_3 (E = const − 2 tr(RS)).
+# For the thin character σ_3 is of the order of the thickness times the noise,
+# tiny against σ_1 and σ_2, so the corrected fit is practically as good. R itself
+# changes by a mirror across the (nearly) common plane of the points: R becomes
+# R H, which sends the plane's normal to its opposite. That is a large change of
+# the matrix, but in the one direction the data hardly constrain, which is why
+# the fit barely notices. With σ_2 = σ_3 = 0 (collinear points in 3D) every
+# rotation about the line fits equally well: the best rotation is not unique, a
+# whole circle of maximizers, and the SVD picks one of them arbitrarily. The sign
+# correction still returns a rotation (det = +1), but it cannot make the answer
+# unique; a method that needs R there (ARAP on a degenerate cell) must get the
+# missing information elsewhere, e.g. from neighbouring cells or a previous R.

@@ -61,21 +61,48 @@ rng = np.random.default_rng(3)
 #
 # The local step of ARAP is the problem of stage 02, once per vertex: given a
 # $d \times d$ matrix $S$, find the rotation maximizing $\operatorname{tr}(R S)$.
-# With the SVD $S = U \Sigma \tilde U^\top$ the answer is
+# With the SVD $S = \tilde U \Sigma \tilde V^\top$ the answer is
 #
 # $$
-# R = \tilde U \, D \, U^\top, \qquad D = \operatorname{diag}\bigl(1, \dots, 1, \det(\tilde U U^\top)\bigr),
+# R = \tilde V \, D \, \tilde U^\top, \qquad D = \operatorname{diag}\bigl(1, \dots, 1, \det(\tilde V \tilde U^\top)\bigr),
 # $$
 #
-# i.e. the best orthogonal matrix $\tilde U U^\top$, with the direction of the
+# i.e. the best orthogonal matrix $\tilde V \tilde U^\top$, with the direction of the
 # smallest singular value flipped when that matrix is a reflection. ARAP calls it
 # for thousands of vertices per iteration, so make it accept a stack `(k, d, d)`
 # and work on the whole stack at once: `np.linalg.svd` and `np.linalg.det` both
-# broadcast over leading axes. Bring your solution from stage 02.
+# broadcast over leading axes. Bring your solution from stage 02 (it was graded
+# there; its tests here only help you check the copy).
 
 # %% deformlab={"solution": "optimal_rotation"}
+import numpy as np
 
-# %% deformlab={"tests": "optimal_rotation", "points": 2}
+
+def optimal_rotation(S):
+    """The rotation maximizing ``tr(R S)``, for one matrix or a stack of them.
+
+    Parameters
+    ----------
+    S : (d, d) or (k, d, d) array_like of float
+        Covariance matrix or matrices, ``S = Ũ Σ Ṽᵀ``.
+
+    Returns
+    -------
+    R : numpy.ndarray, the shape of ``S``
+        ``R = Ṽ diag(1, …, 1, det(Ṽ Ũᵀ)) Ũᵀ``: orthogonal with ``det R = +1``.
+    """
+    ### BEGIN SOLUTION
+    # np.linalg.svd and det act on the last two axes, so one code path serves (d, d) and (k, d, d).
+    U_tilde, sigma, V_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))
+    V_tilde = np.swapaxes(V_tilde_T, -1, -2).copy()
+    U_tilde_T = np.swapaxes(U_tilde, -1, -2)
+    sign = np.where(np.linalg.det(V_tilde @ U_tilde_T) < 0, -1.0, 1.0)  # -1 where Ṽ Ũᵀ is a reflection
+    # Flip the singular vector of the smallest singular value (numpy's last column): the cheapest fix.
+    V_tilde[..., -1] *= sign[..., None]
+    return V_tilde @ U_tilde_T
+    ### END SOLUTION
+
+# %% deformlab={"tests": "optimal_rotation"}
 def _rot2(a):
     return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
 
@@ -148,6 +175,11 @@ assert np.allclose(optimal_rotation(_S), _rot2(-0.7)), "for S = R(0.7)·diag(3, 
 # factor ½, and note that the weight belongs to the triangle: an interior edge
 # gets one weight from each of its two triangles.
 #
+# The identity is exact in 2D. On a triangle of a surface in 3D, the edges only
+# define what $J_T$ does *within the triangle's plane*, and the left side equals
+# $A_T \|(J_T - R_i)\,\Pi_T\|_F^2$ with $\Pi_T$ the orthogonal projection onto
+# that plane: what $R_i$ does to the triangle's normal costs nothing.
+#
 # **Your task.** `cotangent_weights(V, F)` returns the `(f, 3)` array
 # `C[t, k]` $= \tfrac12\cot$ of the angle at corner `k` of triangle `t`, the weight
 # of the opposite edge `(F[t, (k+1)%3], F[t, (k+2)%3])`. For the corner with edge
@@ -157,6 +189,40 @@ assert np.allclose(optimal_rotation(_S), _rot2(-0.7)), "for S = R(0.7)·diag(3, 
 # weights; that is expected. Vectorize over all triangles and corners.
 
 # %% deformlab={"solution": "cotangent_weights"}
+import numpy as np
+
+
+def cotangent_weights(V, F):
+    """Half the cotangent of every triangle corner.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions, ``d`` in {2, 3}.
+    F : (f, 3) array_like of int
+        Triangles, none of zero area.
+
+    Returns
+    -------
+    C : (f, 3) numpy.ndarray
+        ``C[t, k] = ½ cot`` of the angle at corner ``k`` of triangle ``t``: the weight of
+        the opposite edge ``(F[t, (k+1)%3], F[t, (k+2)%3])``.
+    """
+    ### BEGIN SOLUTION
+    V, F = np.asarray(V, dtype=float), np.asarray(F, dtype=np.int64)
+    C = np.empty(F.shape)
+    for k in range(3):
+        # the two edges leaving corner k
+        a = V[F[:, (k + 1) % 3]] - V[F[:, k]]
+        b = V[F[:, (k + 2) % 3]] - V[F[:, k]]
+        cos_part = np.sum(a * b, axis=1)  # |a| |b| cos θ
+        if V.shape[1] == 2:
+            sin_part = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])  # |a| |b| sin θ
+        else:
+            sin_part = np.linalg.norm(np.cross(a, b), axis=1)
+        C[:, k] = 0.5 * cos_part / sin_part
+    return C
+    ### END SOLUTION
 
 # %% deformlab={"tests": "cotangent_weights", "points": 2}
 # A right triangle with angles 90°, arctan(1/2), arctan(2): ½cot = 0, 1, 1/4.
@@ -208,6 +274,38 @@ assert _C.shape == (len(_F), 3) and np.isfinite(_C).all(), f"expected finite wei
 # `csr_matrix`) sum the duplicates, then subtract the row sums on the diagonal.
 
 # %% deformlab={"solution": "cotangent_laplacian"}
+import numpy as np
+import scipy.sparse as sp
+
+
+def cotangent_laplacian(V, F):
+    """The cotangent Laplacian (libigl's sign: negative semi-definite).
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    L : (n, n) scipy.sparse matrix
+        Symmetric; ``L[i, j]`` is the sum of the cotangent weights of edge ``(i, j)``,
+        ``L[i, i] = -Σ_{j≠i} L[i, j]``.
+    """
+    ### BEGIN SOLUTION
+    F = np.asarray(F, dtype=np.int64)
+    n = len(V)
+    C = cotangent_weights(V, F)
+    # weight C[t, k] belongs to the edge opposite corner k
+    i = np.concatenate([F[:, (k + 1) % 3] for k in range(3)])
+    j = np.concatenate([F[:, (k + 2) % 3] for k in range(3)])
+    c = np.concatenate([C[:, k] for k in range(3)])
+    off_diagonal = sp.coo_matrix((c, (i, j)), shape=(n, n))  # repeated (i, j) entries add up
+    off_diagonal = (off_diagonal + off_diagonal.T).tocsr()
+    return off_diagonal - sp.diags(np.asarray(off_diagonal.sum(axis=1)).ravel())
+    ### END SOLUTION
 
 # %% deformlab={"tests": "cotangent_laplacian", "points": 2}
 _V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
@@ -276,6 +374,43 @@ assert _diff < 1e-10, f"on the 3D bar, L differs from igl.cotmatrix by up to {_d
 # `arap_rotations(V, U, F, C)` is then the local step itself.
 
 # %% deformlab={"solution": "arap_covariances"}
+import numpy as np
+import scipy.sparse as sp
+
+
+def arap_covariances(V, U, F, C):
+    """The covariance matrix of every vertex's cell (the triangles around it).
+
+    Parameters
+    ----------
+    V, U : (n, d) array_like of float
+        Rest and deformed positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    C : (f, 3) array_like of float
+        Cotangent weights, ``C[t, k]`` for the edge opposite corner ``k``.
+
+    Returns
+    -------
+    S : (n, d, d) numpy.ndarray
+        ``S_i = Σ_{t ∋ i} Σ_k C[t, k] e_tk e'_tkᵀ``, ``e_tk`` the rest edge opposite corner
+        ``k`` and ``e'_tk`` the same edge in ``U``.
+    """
+    ### BEGIN SOLUTION
+    V, U = np.asarray(V, dtype=float), np.asarray(U, dtype=float)
+    F, C = np.asarray(F, dtype=np.int64), np.asarray(C, dtype=float)
+    d = V.shape[1]
+    # One triangle's sum over its three edges, the same for each of its three vertices' cells.
+    S_triangle = np.zeros((len(F), d, d))
+    for k in range(3):
+        a, b = F[:, (k + 1) % 3], F[:, (k + 2) % 3]
+        e_rest, e_deformed = V[b] - V[a], U[b] - U[a]
+        S_triangle += C[:, k, None, None] * e_rest[:, :, None] * e_deformed[:, None, :]
+    # Sum over the triangles around each vertex: a product with the vertex-triangle incidence matrix.
+    n, f = len(V), len(F)
+    around = sp.csr_matrix((np.ones(3 * f), (F.ravel(), np.repeat(np.arange(f), 3))), shape=(n, f))
+    return (around @ S_triangle.reshape(f, d * d)).reshape(n, d, d)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "arap_covariances", "points": 2}
 # One triangle with hand-made weights: S = 0.1 e0 e0ᵀ + 0.2 e1 e1ᵀ + 0.3 e2 e2ᵀ for
@@ -311,6 +446,26 @@ assert np.allclose(_S[0], _S[1] + _S[3]) and np.allclose(_S[0], _S[2]), (
 )
 
 # %% deformlab={"solution": "arap_rotations"}
+def arap_rotations(V, U, F, C):
+    """The local step: the best rotation of every vertex's cell.
+
+    Parameters
+    ----------
+    V, U : (n, d) array_like of float
+        Rest and deformed positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    C : (f, 3) array_like of float
+        Cotangent weights.
+
+    Returns
+    -------
+    R : (n, d, d) numpy.ndarray
+        ``R_i = optimal_rotation(S_i)`` with ``S = arap_covariances(V, U, F, C)``.
+    """
+    ### BEGIN SOLUTION
+    return optimal_rotation(arap_covariances(V, U, F, C))
+    ### END SOLUTION
 
 # %% deformlab={"tests": "arap_rotations", "points": 2}
 def _random_rotations(k, d):
@@ -362,6 +517,40 @@ assert (_other <= _best + 1e-9).all(), f"at vertex {(_other - _best).argmax()} a
 # rigidly with its rotation.
 
 # %% deformlab={"solution": "arap_energy"}
+import numpy as np
+
+
+def arap_energy(V, U, F, C, R):
+    """The ARAP energy of positions ``U`` measured against one rotation per vertex.
+
+    Parameters
+    ----------
+    V, U : (n, d) array_like of float
+        Rest and deformed positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    C : (f, 3) array_like of float
+        Cotangent weights.
+    R : (n, d, d) array_like of float
+        The rotation of every vertex's cell.
+
+    Returns
+    -------
+    E : float
+        ``Σ_i Σ_{t ∋ i} Σ_k C[t, k] ‖e'_tk - R_i e_tk‖²``.
+    """
+    ### BEGIN SOLUTION
+    V, U, R = (np.asarray(x, dtype=float) for x in (V, U, R))
+    F, C = np.asarray(F, dtype=np.int64), np.asarray(C, dtype=float)
+    a, b = F[:, [1, 2, 0]], F[:, [2, 0, 1]]  # (f, 3): the ends of the edge opposite each corner
+    e_rest, e_deformed = V[b] - V[a], U[b] - U[a]  # (f, 3, d)
+    energy = 0.0
+    for corner in range(3):  # every edge belongs to the cells of all three corners of its triangle
+        R_i = R[F[:, corner]]  # (f, d, d)
+        residual = e_deformed - e_rest @ np.swapaxes(R_i, 1, 2)  # rows (R_i e)ᵀ = eᵀ R_iᵀ
+        energy += np.sum(C * np.sum(residual**2, axis=2))
+    return float(energy)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "arap_energy", "points": 2}
 _V = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
@@ -437,6 +626,55 @@ assert _E > 1.0, f"the bar turned by Q but measured against R_i = I must have a 
 # full `(n, d)` array `U` with `U[handles] = handle_positions`.
 
 # %% deformlab={"solution": "arap_precompute"}
+import types
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+
+def arap_precompute(V, F, handles):
+    """What the ARAP iterations reuse: the rest mesh, the weights and the factorized system.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    handles : (h,) array_like of int
+        Distinct vertex indices whose positions are prescribed; at least one.
+
+    Returns
+    -------
+    data : object of your design
+        Everything ``arap_global_step`` and ``arap_solve`` need.
+
+    Raises
+    ------
+    ValueError
+        If ``handles`` is empty, repeats a vertex or is out of range.
+    """
+    ### BEGIN SOLUTION
+    V, F = np.array(V, dtype=float), np.array(F, dtype=np.int64)  # copies: later edits cannot reach the caller
+    handles = np.array(handles, dtype=np.int64).reshape(-1)
+    if handles.size == 0 or handles.min() < 0 or handles.max() >= len(V) or len(np.unique(handles)) != handles.size:
+        raise ValueError(f"handles must be distinct vertex indices in range({len(V)}), at least one; got {handles.tolist()}")
+    free = np.setdiff1d(np.arange(len(V)), handles)
+    C = cotangent_weights(V, F)
+    K = -cotangent_laplacian(V, F).tocsr()  # the stiffness matrix -L
+    # The 3f edges (a, b), opposite corners 0, 1, 2 of every triangle, and the signed incidence
+    # matrix that adds a per-edge vector to B at a and subtracts it at b.
+    a, b = F[:, [1, 2, 0]].ravel(), F[:, [2, 0, 1]].ravel()
+    edge = np.arange(len(a))
+    D = sp.csr_matrix((np.r_[np.ones(len(a)), -np.ones(len(a))], (np.r_[a, b], np.r_[edge, edge])), shape=(len(V), len(a)))
+    return types.SimpleNamespace(
+        V=V, F=F, C=C, handles=handles, free=free, a=a, b=b, D=D,
+        K_fh=K[free][:, handles],
+        # (-L)_ff is the same for every rotation and every handle position: factorize it once.
+        K_ff=spla.splu(K[free][:, free].tocsc()),
+    )
+    ### END SOLUTION
 
 # %% deformlab={"tests": "arap_precompute", "points": 2}
 _V, _F = load_mesh("bar_coarse")
@@ -454,6 +692,38 @@ for _bad, _why in (([len(_V)], "out of range"), ([0, 0], "repeated"), ([], "empt
         raise AssertionError(f"handles {_bad} ({_why}) must raise ValueError")
 
 # %% deformlab={"solution": "arap_global_step"}
+import numpy as np
+
+
+def arap_global_step(data, R, handle_positions):
+    """The global step: the positions minimizing the ARAP energy for fixed rotations.
+
+    Parameters
+    ----------
+    data : object
+        From ``arap_precompute``.
+    R : (n, d, d) array_like of float
+        The rotation of every vertex's cell.
+    handle_positions : (h, d) array_like of float
+        Where the handles go.
+
+    Returns
+    -------
+    U : (n, d) numpy.ndarray
+        ``U[handles] = handle_positions``; the free rows solve ``(-L)_ff U_f = B_f - (-L)_fh U_h``.
+    """
+    ### BEGIN SOLUTION
+    V, a, b = data.V, data.a, data.b
+    # Only a triangle's mean rotation R̄_t = (R_a + R_b + R_c) / 3 matters for the positions.
+    R_mean = np.asarray(R, dtype=float)[data.F].mean(axis=1)
+    # c R̄_t (v_a - v_b) for every edge (a, b) of every triangle t, in the edge order of data.a, data.b
+    pull = data.C.ravel()[:, None] * np.einsum("tij,tj->ti", np.repeat(R_mean, 3, axis=0), V[a] - V[b])
+    B = data.D @ pull  # B_a gets +pull, B_b gets -pull
+    U = np.empty_like(V)
+    U[data.handles] = handle_positions
+    U[data.free] = data.K_ff.solve(B[data.free] - data.K_fh @ U[data.handles])
+    return U
+    ### END SOLUTION
 
 # %% deformlab={"tests": "arap_global_step", "points": 3}
 _V, _F = load_mesh("bar_coarse")
@@ -521,6 +791,41 @@ for _ in range(3):
 # On the ~2.5k-vertex bar, ten iterations should take well under a second.
 
 # %% deformlab={"solution": "arap_solve"}
+import numpy as np
+
+
+def arap_solve(data, handle_positions, U0=None, iterations=10):
+    """ARAP deformation: alternate the local and the global step.
+
+    Parameters
+    ----------
+    data : object
+        From ``arap_precompute``.
+    handle_positions : (h, d) array_like of float
+        Where the handles go.
+    U0 : (n, d) array_like of float, optional
+        The start; the rest positions by default. Its handle rows are replaced by
+        ``handle_positions`` first.
+    iterations : int
+        Local–global iterations.
+
+    Returns
+    -------
+    U : (n, d) numpy.ndarray
+        The positions after the last iteration.
+    energies : (iterations,) numpy.ndarray
+        ``energies[k]``: the energy after iteration ``k``'s global step, with the rotations it used.
+    """
+    ### BEGIN SOLUTION
+    U = np.array(data.V if U0 is None else U0, dtype=float)  # a copy: U0 is not modified
+    U[data.handles] = handle_positions
+    energies = []
+    for _ in range(iterations):
+        R = arap_rotations(data.V, U, data.F, data.C)  # local step
+        U = arap_global_step(data, R, handle_positions)  # global step
+        energies.append(arap_energy(data.V, U, data.F, data.C, R))
+    return U, np.array(energies)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "arap_solve", "points": 3}
 _V, _F = load_mesh("bar_coarse")
@@ -573,7 +878,7 @@ assert np.allclose(_U2, arap_solve(_data, _target, U0=_U1, iterations=1)[0]), (
 # right one is twisted by 90° about the bar's axis, or bent so that the bar
 # becomes a quarter circle (the end turns by 90° and moves to where a bent bar of
 # the same length would put it). As in an interactive session, the handle turns
-# gradually, in frames of 10°, and each frame's solve starts from the previous
+# gradually, in frames of 15°, and each frame's solve starts from the previous
 # frame's result (§9 shows why). The factorization is computed once for all
 # frames. The handles are marked in red.
 
@@ -630,8 +935,8 @@ start = time.perf_counter()
 arap_solve(data, twist(V, left, right, np.pi / 2), iterations=10)
 print(f"arap_solve, 10 iterations: {time.perf_counter() - start:.3f} s")
 
-U_twist = animate(data, V, twist, range(10, 91, 10), iterations=10)
-U_bend = animate(data, V, bend, range(10, 91, 10), iterations=10)
+U_twist = animate(data, V, twist, range(15, 91, 15), iterations=10)
+U_bend = animate(data, V, bend, range(15, 91, 15), iterations=10)
 plotting.show_deformation(V, U_twist, F, handles=handles, titles=("rest", "twisted by 90°"))
 plotting.show_deformation(V, U_bend, F, handles=handles, titles=("rest", "bent by 90°"))
 
@@ -648,6 +953,32 @@ plotting.show_deformation(V, U_bend, F, handles=handles, titles=("rest", "bent b
 # that `U` (use your functions from above).
 
 # %% deformlab={"solution": "laplacian_editing"}
+import numpy as np
+
+
+def laplacian_editing(V, F, handles, handle_positions):
+    """Naive Laplacian editing: the global step with every rotation the identity.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    handles : (h,) array_like of int
+        Vertex indices.
+    handle_positions : (h, d) array_like of float
+        Where the handles go.
+
+    Returns
+    -------
+    U : (n, d) numpy.ndarray
+    """
+    ### BEGIN SOLUTION
+    V = np.asarray(V, dtype=float)
+    identities = np.tile(np.eye(V.shape[1]), (len(V), 1, 1))
+    return arap_global_step(arap_precompute(V, F, handles), identities, handle_positions)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "laplacian_editing", "points": 2}
 _V, _F = load_mesh("bar_coarse")
@@ -661,6 +992,31 @@ assert _err.max() < 1e-8, f"Laplacian editing is the global step with every R_i 
 _t = np.array([1.0, 2.0, -3.0])
 assert np.allclose(laplacian_editing(_V, _F, _h, _V[_h] + _t), _V + _t), "translating every handle by t must translate the mesh by t"
 assert np.array_equal(_U[_h], _target), "U[handles] must equal handle_positions exactly"
+
+# %% [markdown]
+# **Predict first.** Below, the bar is twisted by 90° with Laplacian editing, and
+# then ARAP runs 1, 2 and 4 iterations starting from that guess. Before you run
+# the cell, write down: is the middle cross-section of the Laplacian-editing bar
+# larger or smaller than at rest, by roughly how much, and after how many
+# iterations do you expect it back within 2 % of its rest size?
+
+# %%
+def section_size(U):
+    """RMS distance of the bar's middle ring of vertices from its centre, relative to the rest pose."""
+    ring = np.abs((V - V[handles].mean(axis=0)) @ x_axis) < 1e-9
+    size = lambda X: np.sqrt(np.mean(np.sum((X[ring] - X[ring].mean(axis=0)) ** 2, axis=1)))
+    return size(U) / size(V)
+
+
+target = twist(V, left, right, np.pi / 2)
+U_guess = laplacian_editing(V, F, handles, target)
+stages = [("Laplacian editing", U_guess)]
+for iterations in (1, 2, 4):
+    U_k, energies = arap_solve(data, target, U0=U_guess, iterations=iterations)
+    stages.append((f"{iterations} iteration{'s' * (iterations > 1)}", U_k))
+for label, U_k in stages:
+    print(f"{label:18s} middle cross-section × {section_size(U_k):.3f}")
+plotting.show_meshes([(U_k, F) for _, U_k in stages], titles=[label for label, _ in stages])
 
 # %% [markdown]
 # ARAP finds a local minimum, and how many iterations it needs depends on where
@@ -801,16 +1157,70 @@ plotting.show_energy(curves, title="ARAP energy, 90° twist, from the rest pose"
 # mesh.
 
 # %% [markdown]
-# **Question.** The energy curves above never go up. Explain why from the two
-# steps, and say what this does and does not guarantee about the shape you get.
+# ## 12 · Why the local step must return rotations
+#
+# **Predict first.** The 2D character's hands swap places (the head and the feet
+# stay). The cell below solves this twice, with your `arap_rotations` and with
+# the best *orthogonal* matrix of stage 01 in the local step (no sign
+# correction), and counts the triangles that end up inside out. Before you run
+# it: how many of the character's triangles do you expect flipped in each case,
+# and which of the two solves reaches the *lower* energy?
+
+# %%
+V2, F2 = load_mesh("character")
+points2 = np.array(load_handles("character")["points"])  # head top, left hand, right hand, left foot, right foot
+target2 = V2[points2].copy()
+target2[[1, 2]] = V2[points2[[2, 1]]]  # the hands swap places
+C2 = cotangent_weights(V2, F2)
+data2 = arap_precompute(V2, F2, points2)
+
+
+def signed_areas(U):
+    a, b, c = U[F2[:, 0]], U[F2[:, 1]], U[F2[:, 2]]
+    return (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
+
+
+def best_orthogonal(S):
+    """Stage 01's Ṽ Ũᵀ for a stack of S: possibly reflections."""
+    U_tilde, _, V_tilde_T = np.linalg.svd(S)
+    return np.swapaxes(V_tilde_T, -1, -2) @ np.swapaxes(U_tilde, -1, -2)
+
+
+local_steps = {
+    "best orthogonal (no sign correction)": lambda U: best_orthogonal(arap_covariances(V2, U, F2, C2)),
+    "best rotation (arap_rotations)": lambda U: arap_rotations(V2, U, F2, C2),
+}
+results = []
+for label, local_step in local_steps.items():
+    U = V2.copy()
+    U[points2] = target2
+    for _ in range(30):
+        R = local_step(U)
+        U = arap_global_step(data2, R, target2)
+    flipped = np.sign(signed_areas(U)) != np.sign(signed_areas(V2))
+    print(f"{label:37s}: {flipped.sum():4d} of {len(F2)} triangles flipped, "
+          f"{np.sum(np.linalg.det(R) < 0):4d} reflections among the R_i, energy {arap_energy(V2, U, F2, C2, R):.4f}")
+    results.append((U, F2, flipped.astype(float)))
+plotting.show_meshes(results, titles=list(local_steps))
+
+# %% [markdown]
+# **Question.** Without the sign correction the energy comes out *lower*, yet the
+# result is worse. Explain both observations: why can reflections lower this
+# energy, and why do the flipped triangles follow from them? Then say what the
+# monotone decrease of the energies (§7) does and does not guarantee here.
 
 # %% [markdown] deformlab={"answer": "arap_monotone", "points": 2}
-# Each step minimizes E exactly over its own unknowns with the others fixed, and
-# the current values are feasible candidates: the local step can always keep the
-# old rotations and the global step can always keep the old positions (they
-# satisfy the handle constraints). So E(u^{k+1}, R^{k+1}) ≤ E(u^k, R^{k+1}) ≤
-# E(u^k, R^k), and since E ≥ 0 the energies converge. This guarantees neither the
-# global minimum nor the intended shape: E is not jointly convex in u and R, so
-# the iteration stops in a local minimum that depends on the start (the 180°
-# twist in one step pinches instead of twisting), and it says nothing about
-# speed: the decrease can become very slow (fine meshes, poor initial guesses).
+# The energy only compares each cell's deformed edges with its rest edges moved
+# by R_i; it does not care whether R_i is a rotation. With the hands swapped,
+# the arms must cross, and mirroring a cell (a reflection) fits such edges
+# better than turning it, so allowing reflections enlarges the set the local
+# step optimizes over and the minimum is lower. But a cell asked to be the
+# mirror image of its rest shape is inside out: the global step then places its
+# triangles with reversed orientation, hundreds of flipped triangles, while with
+# rotations only a few triangles near the crossing flip. Monotonicity (each step
+# minimizes exactly over its own unknowns, so E never goes up and converges)
+# holds in both runs: it guarantees a non-increasing energy and convergence, not
+# a good shape, not the global minimum (E is not convex in (u, R) jointly), and
+# nothing about which energy is the meaningful one: minimizing over the wrong
+# set (orthogonal instead of rotations) converges just as monotonically to a
+# wrong answer.

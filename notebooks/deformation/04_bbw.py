@@ -54,7 +54,8 @@ rng = np.random.default_rng(4)
 # %% [markdown]
 # ## 1 · The cotangent Laplacian (from stage 03)
 #
-# Bring `cotangent_weights` and `cotangent_laplacian` from stage 03. As a
+# Bring `cotangent_weights` and `cotangent_laplacian` from stage 03 (they were
+# graded there; their tests here only help you check the copy). As a
 # reminder: `C[t, k]` $= \tfrac12\cot$ of the angle at corner `k` of triangle `t`,
 # weighting the opposite edge; $L_{jk} = \sum_{T \ni (j,k)} c^T_{jk}$ and
 # $L_{jj} = -\sum_{k\ne j} L_{jk}$. On a triangle mesh, $-L$ is the finite-element
@@ -62,8 +63,42 @@ rng = np.random.default_rng(4)
 # $-L_{jk} = \int_\Omega \nabla\varphi_j \cdot \nabla\varphi_k \, dA$.
 
 # %% deformlab={"solution": "cotangent_weights"}
+import numpy as np
 
-# %% deformlab={"tests": "cotangent_weights", "points": 2}
+
+def cotangent_weights(V, F):
+    """Half the cotangent of every triangle corner.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions, ``d`` in {2, 3}.
+    F : (f, 3) array_like of int
+        Triangles, none of zero area.
+
+    Returns
+    -------
+    C : (f, 3) numpy.ndarray
+        ``C[t, k] = ½ cot`` of the angle at corner ``k`` of triangle ``t``: the weight of
+        the opposite edge ``(F[t, (k+1)%3], F[t, (k+2)%3])``.
+    """
+    ### BEGIN SOLUTION
+    V, F = np.asarray(V, dtype=float), np.asarray(F, dtype=np.int64)
+    C = np.empty(F.shape)
+    for k in range(3):
+        # the two edges leaving corner k
+        a = V[F[:, (k + 1) % 3]] - V[F[:, k]]
+        b = V[F[:, (k + 2) % 3]] - V[F[:, k]]
+        cos_part = np.sum(a * b, axis=1)  # |a| |b| cos θ
+        if V.shape[1] == 2:
+            sin_part = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])  # |a| |b| sin θ
+        else:
+            sin_part = np.linalg.norm(np.cross(a, b), axis=1)
+        C[:, k] = 0.5 * cos_part / sin_part
+    return C
+    ### END SOLUTION
+
+# %% deformlab={"tests": "cotangent_weights"}
 _V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
 _F = np.array([[0, 1, 2]])
 _C = cotangent_weights(_V, _F)
@@ -79,8 +114,40 @@ _V3 = np.hstack([_V, np.zeros((3, 1))]) @ np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 
 assert np.allclose(cotangent_weights(3.0 * _V3, _F), _C), "a rotated, scaled copy of a triangle in 3D must get the same weights"
 
 # %% deformlab={"solution": "cotangent_laplacian"}
+import numpy as np
+import scipy.sparse as sp
 
-# %% deformlab={"tests": "cotangent_laplacian", "points": 2}
+
+def cotangent_laplacian(V, F):
+    """The cotangent Laplacian (libigl's sign: negative semi-definite).
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    L : (n, n) scipy.sparse matrix
+        Symmetric; ``L[i, j]`` is the sum of the cotangent weights of edge ``(i, j)``,
+        ``L[i, i] = -Σ_{j≠i} L[i, j]``.
+    """
+    ### BEGIN SOLUTION
+    F = np.asarray(F, dtype=np.int64)
+    n = len(V)
+    C = cotangent_weights(V, F)
+    # weight C[t, k] belongs to the edge opposite corner k
+    i = np.concatenate([F[:, (k + 1) % 3] for k in range(3)])
+    j = np.concatenate([F[:, (k + 2) % 3] for k in range(3)])
+    c = np.concatenate([C[:, k] for k in range(3)])
+    off_diagonal = sp.coo_matrix((c, (i, j)), shape=(n, n))  # repeated (i, j) entries add up
+    off_diagonal = (off_diagonal + off_diagonal.T).tocsr()
+    return off_diagonal - sp.diags(np.asarray(off_diagonal.sum(axis=1)).ravel())
+    ### END SOLUTION
+
+# %% deformlab={"tests": "cotangent_laplacian"}
 _V = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]])
 _L = cotangent_laplacian(_V, np.array([[0, 1, 2]]))
 assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name__}"
@@ -123,9 +190,16 @@ assert _LV.max() < 1e-9, (
 # split into two second-order ones, so piecewise-linear elements suffice. $Q$ is
 # symmetric and positive semi-definite ($w^\top Q w = \|Lw\|^2_{M^{-1}}$), sparse
 # (two-ring neighbours), and its null space contains the constants. The outline
-# needs no special treatment: minimizing $w^\top Q w$ leaves the values there
-# free (it imposes so-called *natural* boundary conditions), whereas prescribing
-# $w = 0$ on the boundary would pin the outline in place.
+# gets no explicit constraint, but it is not free of assumptions either. $L$ is
+# assembled with zero-Neumann conditions (a row of $L$ at the outline only sees
+# the triangles inside), and squaring it bakes $\partial w / \partial n = 0$ into
+# $Q$: the weights are biased near the boundary, their level lines pushed to
+# meet it at right angles. Those are not the *natural* boundary conditions of
+# $\int (\Delta w)^2$, and the bias does not go away under refinement (Stein,
+# Grinspun, Wardetzky and Jacobson, *Natural boundary conditions for smoothing
+# in geometry processing*, ACM TOG 2018). BBW, and libigl's `bbw`, use this $Q$
+# all the same; prescribing $w = 0$ on the boundary instead would pin the
+# outline in place.
 #
 # Units are a good check: in 2D, $L$ is scale-invariant (cotangents only see
 # angles) while $M$ is an area. Scaling the shape by $s$ therefore scales $Q$ by
@@ -137,6 +211,33 @@ assert _LV.max() < 1e-9, (
 # general inverse.
 
 # %% deformlab={"solution": "biharmonic_matrix"}
+import igl
+import numpy as np
+import scipy.sparse as sp
+
+
+def biharmonic_matrix(V, F):
+    """The biharmonic energy matrix ``Q = L M⁻¹ L``.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    Q : (n, n) scipy.sparse matrix
+        ``L = cotangent_laplacian(V, F)``, ``M = igl.massmatrix(V, F)`` (Voronoi, diagonal).
+    """
+    ### BEGIN SOLUTION
+    V, F = np.asarray(V, dtype=float), np.asarray(F, dtype=np.int64)
+    L = cotangent_laplacian(V, F)
+    M = igl.massmatrix(V, F)
+    M_inverse = sp.diags(1.0 / M.diagonal())  # M is diagonal: invert its diagonal only
+    return (L @ M_inverse @ L).tocsr()
+    ### END SOLUTION
 
 # %% deformlab={"tests": "biharmonic_matrix", "points": 2}
 import igl as _igl  # noqa: E402
@@ -174,6 +275,33 @@ assert np.isclose(_ratio, 0.25), (
 # index arrays, one per handle.
 
 # %% deformlab={"solution": "handle_constraints"}
+import numpy as np
+
+
+def handle_constraints(handles):
+    """The interpolation constraints ``W[b] = bc`` of a list of handles.
+
+    Parameters
+    ----------
+    handles : list of array_like of int
+        One array of vertex indices per handle (one vertex for a point handle,
+        several for a bone or a region).
+
+    Returns
+    -------
+    b : (k,) numpy.ndarray of int
+        The handles' vertices, concatenated in order.
+    bc : (k, m) numpy.ndarray
+        1 in the column of each vertex's own handle, 0 elsewhere.
+    """
+    ### BEGIN SOLUTION
+    handles = [np.asarray(h, dtype=np.int64).reshape(-1) for h in handles]
+    b = np.concatenate(handles)
+    owner = np.concatenate([np.full(len(h), j) for j, h in enumerate(handles)])  # handle of each row of b
+    bc = np.zeros((len(b), len(handles)))
+    bc[np.arange(len(b)), owner] = 1.0
+    return b, bc
+    ### END SOLUTION
 
 # %% deformlab={"tests": "handle_constraints", "points": 2}
 _b, _bc = handle_constraints([np.array([3]), np.array([5, 7]), np.array([1])])
@@ -217,6 +345,37 @@ assert np.array_equal(_bc.sum(axis=1), np.ones(len(_b))), "every row of bc must 
 # zero: give them that handle's one-hot row.
 
 # %% deformlab={"solution": "inverse_distance_weights"}
+import numpy as np
+
+
+def inverse_distance_weights(V, handle_points, power=2):
+    """Shepard's inverse-distance weights.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    handle_points : (m, d) array_like of float
+        Distinct handle positions.
+    power : float
+        The exponent of the distance.
+
+    Returns
+    -------
+    W : (n, m) numpy.ndarray
+        ``W[i, j] ∝ ‖v_i - h_j‖^-power``, rows summing to 1; a vertex within 1e-12 of a
+        handle point gets that handle's one-hot row.
+    """
+    ### BEGIN SOLUTION
+    V, H = np.asarray(V, dtype=float), np.asarray(handle_points, dtype=float)
+    D = np.linalg.norm(V[:, None, :] - H[None, :, :], axis=2)  # (n, m) distances
+    nearest = np.argmin(D, axis=1)
+    on_handle = D[np.arange(len(V)), nearest] <= 1e-12
+    W = np.zeros_like(D)
+    W[~on_handle] = D[~on_handle] ** -float(power)
+    W[on_handle, nearest[on_handle]] = 1.0  # on a handle point: that handle alone
+    return W / W.sum(axis=1, keepdims=True)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "inverse_distance_weights", "points": 2}
 _W = inverse_distance_weights(np.array([[1.0, 0.0], [3.0, 0.0]]), np.array([[0.0, 0.0], [4.0, 0.0]]))
@@ -266,6 +425,38 @@ plotting.show_weights(V, F, W_idw, handles=points)
 # handles like a bent elastic beam, with negative *lobes* where it swings back.
 
 # %% deformlab={"solution": "unconstrained_biharmonic_weights"}
+import numpy as np
+import scipy.sparse.linalg as spla
+
+
+def unconstrained_biharmonic_weights(V, F, b, bc):
+    """The weights minimizing ``½ tr(Wᵀ Q W)`` subject to ``W[b] = bc``, without bounds.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    b : (k,) array_like of int
+        Constrained vertices.
+    bc : (k, m) array_like of float
+        Their values, one column per handle.
+
+    Returns
+    -------
+    W : (n, m) numpy.ndarray
+    """
+    ### BEGIN SOLUTION
+    b, bc = np.asarray(b, dtype=np.int64), np.asarray(bc, dtype=float)
+    Q = biharmonic_matrix(V, F).tocsr()
+    free = np.setdiff1d(np.arange(len(V)), b)
+    W = np.zeros((len(V), bc.shape[1]))
+    W[b] = bc
+    # Q_ff W_f = -Q_fb bc: one factorization, m right-hand sides
+    W[free] = spla.splu(Q[free][:, free].tocsc()).solve(-(Q[free][:, b] @ bc))
+    return W
+    ### END SOLUTION
 
 # %% deformlab={"tests": "unconstrained_biharmonic_weights", "points": 3}
 _V, _F = load_mesh("character")
@@ -325,6 +516,64 @@ assert _W.min() < -1e-3, "these weights should go negative somewhere (the lobes)
 # `[0, 1]` and summing to one to 1e-9.
 
 # %% deformlab={"solution": "bbw"}
+import numpy as np
+import scipy.sparse.linalg as spla
+
+
+def bbw(V, F, b, bc):
+    """Bounded biharmonic weights: one bound-constrained QP per handle, then rows normalized.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    b : (k,) array_like of int
+        Constrained vertices.
+    bc : (k, m) array_like of float
+        Their values, one column per handle.
+
+    Returns
+    -------
+    W : (n, m) numpy.ndarray
+        For each handle ``j``, ``w`` minimizes ``½ wᵀ Q w`` subject to ``w[b] = bc[:, j]``
+        and ``0 ≤ w ≤ 1``; then each row is divided by its sum.
+    """
+    ### BEGIN SOLUTION
+    b, bc = np.asarray(b, dtype=np.int64), np.asarray(bc, dtype=float)
+    Q = biharmonic_matrix(V, F).tocsr()
+    free = np.setdiff1d(np.arange(len(V)), b)
+    Q_ff = Q[free][:, free].tocsr()
+    W = np.zeros((len(V), bc.shape[1]))
+    W[b] = bc
+    for j in range(bc.shape[1]):
+        # Over the free values x: minimize ½ xᵀ Q_ff x + gᵀ x subject to 0 ≤ x ≤ 1.
+        g = Q[free][:, b] @ bc[:, j]
+        at_0 = np.zeros(len(free), dtype=bool)  # the active set: free values held at a bound
+        at_1 = np.zeros(len(free), dtype=bool)
+        for _ in range(1000):
+            x = at_1.astype(float)
+            inside = ~(at_0 | at_1)
+            # the equality-constrained problem of §5 on the values not held at a bound
+            rhs = -(g[inside] + Q_ff[inside][:, ~inside] @ x[~inside])
+            # The matrix is symmetric positive definite: tell SuperLU so (no pivoting, a symmetric ordering).
+            lu = spla.splu(Q_ff[inside][:, inside].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+            x[inside] = lu.solve(rhs)
+            gradient = Q_ff @ x + g
+            tolerance = 1e-12 * (np.abs(g).max() + 1e-300)
+            # add every value that left [0, 1]; release every held value whose gradient points inside
+            new_0 = (at_0 & (gradient >= -tolerance)) | (inside & (x < 0))
+            new_1 = (at_1 & (gradient <= tolerance)) | (inside & (x > 1))
+            if np.array_equal(new_0, at_0) and np.array_equal(new_1, at_1):
+                break
+            at_0, at_1 = new_0, new_1
+        else:
+            raise RuntimeError(f"bbw: the active set of handle {j} did not settle in 1000 rounds")
+        W[free, j] = np.clip(x, 0.0, 1.0)  # inside values are in [0, 1] up to round-off
+    return W / W.sum(axis=1, keepdims=True)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "bbw", "points": 4}
 _V, _F = load_mesh("character")
@@ -397,6 +646,59 @@ plotting.show_meshes(
 )
 
 # %% [markdown]
+# **Predict first.** A fork: two prongs side by side, 0.07 apart, joined only at
+# the bottom, with a point handle on top of each prong and one at the base. Pull
+# the left prong's handle up by 0.3. Before running the cell, guess how far the
+# top of the *right* prong moves with inverse-distance weights and with bounded
+# biharmonic weights (it is about as close to the left handle, through the air,
+# as to its own).
+
+# %%
+V_fork, F_fork = shapes.grid_2d(nx=60, ny=30, width=2.0, height=1.0)
+centres = V_fork[F_fork].mean(axis=1)
+F_fork = F_fork[~((np.abs(centres[:, 0] - 1.0) < 0.03) & (centres[:, 1] > 0.2))]  # cut the slot
+used, F_fork = np.unique(F_fork, return_inverse=True)  # drop the vertices the slot left unused
+V_fork, F_fork = V_fork[used], F_fork.reshape(-1, 3)
+fork_points = np.array([np.argmin(np.linalg.norm(V_fork - c, axis=1)) for c in ([0.5, 1.0], [1.5, 1.0], [1.0, 0.0])])
+_, bc_fork = handle_constraints([np.array([p]) for p in fork_points])
+W_fork = {
+    "inverse distance": inverse_distance_weights(V_fork, V_fork[fork_points]),
+    "bounded biharmonic": bbw(V_fork, F_fork, fork_points, bc_fork),
+}
+right_prong_top = (V_fork[:, 0] > 1.0) & (V_fork[:, 1] > 0.9)
+t = np.array([0.0, 0.3])
+for label, W in W_fork.items():
+    print(f"{label:18s}: the top of the right prong moves by up to {np.abs(W[right_prong_top, 0] * t[1]).max():.3f} "
+          f"(the left handle moves by {t[1]})")
+plotting.show_meshes(
+    [(V_fork + W[:, :1] * t, F_fork, W[:, 0]) for W in W_fork.values()],
+    titles=[f"{label}: left prong pulled up" for label in W_fork],
+)
+
+# %% [markdown]
+# **Predict first.** Why biharmonic and not simply *harmonic* weights, which
+# minimize $\int \|\nabla w\|^2$ (one solve with $L$ instead of $Q$, no lobes,
+# and `igl.harmonic(V, F, b, bc, 1)` computes them)? At the same five point
+# handles, guess the left hand's weight 0.1 away from the hand for harmonic and
+# for biharmonic weights, and what happens to both on a finer mesh of the same
+# character.
+
+# %%
+hand = 1  # the left hand's column
+V_fine, F_fine = load_mesh("character_fine")
+points_fine = np.array(load_handles("character_fine")["points"])
+for name, (Vm, Fm, pm) in {"character": (V, F, points), "character_fine": (V_fine, F_fine, points_fine)}.items():
+    near = np.abs(np.linalg.norm(Vm - Vm[pm[hand]], axis=1) - 0.1) < 0.01  # a ring 0.1 from the hand
+    b_m, bc_m = handle_constraints([np.array([p]) for p in pm])
+    harmonic = igl.harmonic(Vm, Fm, b_m, bc_m, 1)
+    biharmonic = unconstrained_biharmonic_weights(Vm, Fm, b_m, bc_m)
+    means = [harmonic[near, hand].mean(), biharmonic[near, hand].mean()]
+    print(f"{name:15s} ({len(Vm):5d} vertices): mean left-hand weight 0.1 from the hand "
+          f"{means[0]:.3f} (harmonic), {means[1]:.3f} (biharmonic)")
+W_harmonic = igl.harmonic(V, F, points, np.eye(len(points)), 1)
+plotting.show_weights(V, F, np.stack([W_harmonic[:, hand], W_unconstrained[:, hand]], axis=1), handles=points)
+
+# %% [markdown]
 # **Question.** Why do the unconstrained biharmonic weights go negative, and what
 # does that do to a deformation? Why does clipping them to $[0, 1]$ not give the
 # bounded biharmonic weights?
@@ -415,19 +717,30 @@ plotting.show_meshes(
 # bounded QP re-shapes the whole weight function to meet the bound smoothly.
 
 # %% [markdown]
-# **Question.** Inverse-distance weights are positive, interpolate and sum to
-# one. Name the two flaws visible in the pictures and explain where each comes
-# from.
+# **Question.** In the fork experiment, inverse-distance weights leaked across
+# the slot and bounded biharmonic weights did not. Could *any* weight of the form
+# $w_j(v) = f(\|v - h_j\|)$ (normalized), with a cleverer $f$, avoid the leak?
+# Say what information such weights would need, and how the biharmonic weights
+# get it. Then explain the harmonic weights' shares in the last experiment.
 
 # %% [markdown] deformlab={"answer": "inverse_distance", "points": 2}
-# Flat spots: for p > 1 the weight ‖v − h_j‖^{-p} normalized has zero gradient at
-# every handle point, so each handle drags a small neighbourhood rigidly and all
-# the stretching is squeezed in between; far from the handles every weight tends
-# to 1/m, so distant parts move with the average of all handles. No shape
-# awareness: the distance is Euclidean, through the air, so a handle influences
-# everything that is close in the plane, e.g. the left hand moves the left hip
-# and thigh although along the body they are far away; biharmonic weights live
-# on the mesh and only spread through the shape.
+# No: two vertices at the same Euclidean distance from h_j get the same weight
+# whatever f is, whether they are connected to the handle through the shape or
+# only across a gap, so the top of the right prong, about as close to the left
+# handle as to its own, must move about half as much as the left prong. Weights that respect the shape need its connectivity: a
+# distance measured inside the shape (geodesic), or an energy defined on the
+# mesh. Biharmonic weights minimize ½ wᵀQw, where Q couples only vertices within
+# two rings of each other: influence spreads from neighbour to neighbour through
+# the triangles, and nothing crosses the slot, where there are no triangles: the
+# left handle's weight reaches the right prong only around the base.
+# Harmonic weights are also shape-aware, but a point constraint is too small for
+# a second-order energy: in the continuum a harmonic function cannot be pinned
+# at a single point (the log singularity makes the energy of the spike vanish),
+# so the weight has a spike (a cusp) at the handle and drops steeply around it,
+# and more so as the mesh is refined (0.1 from the hand it falls further on the
+# finer mesh). The biharmonic energy is fourth order: point values are well
+# defined, the weight is smooth and flat at its handle (close to 1 at 0.1), and
+# refining the mesh hardly changes it.
 
 # %% [markdown]
 # ## 8 · Every kind of handle at once
@@ -450,3 +763,44 @@ W_mixed = bbw(V, F, b, bc)
 for label, w in zip(("point (right hand)", "bone (left arm)", "region (head)"), W_mixed.T):
     print(f"{label:18s}: weight ≥ 0.5 on {np.mean(w >= 0.5):5.1%} of the vertices")
 plotting.show_weights(V, F, W_mixed, handles=mixed, columns=[0, 1, 2])
+
+# %% [markdown]
+# ## 9 · A cage
+#
+# A **cage** is a coarse polygon around the shape whose vertices are the handles.
+# Its constraint is not one-hot: along every cage edge the weights must be
+# *linear*, so that a straight cage edge maps to a straight edge, and the weights
+# of the two cage vertices at its ends share the edge as the two hat functions of
+# a segment do. Here the shape is the unit square meshed by a grid, its outline
+# is the cage (four corners), and every outline vertex is constrained: on the
+# outline, the bilinear coordinates $(1-x)(1-y),\ x(1-y),\ xy,\ (1-x)y$ are
+# exactly those linear hats. `bbw` fills in the inside; then every vertex moves
+# by $\sum_j w_j\,(c'_j - c_j)$ for the moved corners $c'_j$.
+#
+# **Predict first.** The corners move to a general quadrilateral. Do the grid's
+# straight lines stay straight: the outline? the vertical line through the
+# middle? (The bilinear map would keep both straight.)
+
+# %%
+V_cage, F_cage = shapes.grid_2d(nx=24, ny=24)
+corners = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+x, y = V_cage.T
+bilinear = np.stack([(1 - x) * (1 - y), x * (1 - y), x * y, (1 - x) * y], axis=1)
+outline = np.flatnonzero((x == 0) | (x == 1) | (y == 0) | (y == 1))
+W_cage = bbw(V_cage, F_cage, outline, bilinear[outline])  # linear along every cage edge
+moved = np.array([[0.0, 0.0], [1.3, 0.2], [1.0, 1.4], [-0.2, 0.9]])
+U_cage = V_cage + W_cage @ (moved - corners)
+
+
+def bend_of(points):
+    """Largest distance of a chain of points from the straight line through its two ends."""
+    ends = points[[0, -1]]
+    normal = np.array([-(ends[1] - ends[0])[1], (ends[1] - ends[0])[0]]) / np.linalg.norm(ends[1] - ends[0])
+    return np.abs((points - ends[0]) @ normal).max()
+
+
+for label, chain in (("bottom edge of the outline", y == 0), ("vertical line x = 0.5", np.isclose(x, 0.5))):
+    order = np.argsort(x[chain] + y[chain])
+    print(f"{label:27s}: bends by {bend_of(U_cage[chain][order]):.4f}")
+print(f"largest difference between the cage weights and the bilinear coordinates: {np.abs(W_cage - bilinear).max():.3f}")
+plotting.show_meshes([(V_cage, F_cage), (U_cage, F_cage, W_cage[:, 2])], titles=["rest", "cage corners moved"])

@@ -42,7 +42,8 @@
 # enclosing the shape are point handles that only translate, the weights are
 # *generalized barycentric coordinates* of the cage (mean-value, harmonic or
 # Green coordinates), and $u_i = \sum_j w_{ij}\, c'_j$ for the moved cage
-# vertices $c'_j$.
+# vertices $c'_j$. Stage 04 (§9) builds one with `bbw`: the weights are
+# constrained to be linear along the cage's edges instead of one-hot.
 #
 # **Notation.** `V` `(n, d)` rest positions, `W` `(n, m)` weights (one column per
 # handle, every row summing to one), `T` `(m, d, d+1)` one affine transformation
@@ -68,39 +69,67 @@ rng = np.random.default_rng(5)
 #
 # $$
 # u_i^\top \;=\; \sum_j w_{ij}\, [v_i^\top \; 1]\; T_j^\top
-# \;=\; \underbrace{\bigl[\, w_{i1}[v_i^\top \; 1] \;\; w_{i2}[v_i^\top \; 1] \;\cdots\; w_{im}[v_i^\top \; 1] \,\bigr]}_{\text{row } i \text{ of } M}
+# \;=\; \underbrace{\bigl[\, w_{i1}[v_i^\top \; 1] \;\; w_{i2}[v_i^\top \; 1] \;\cdots\; w_{im}[v_i^\top \; 1] \,\bigr]}_{\text{row } i \text{ of } A}
 # \begin{bmatrix} T_1^\top \\ \vdots \\ T_m^\top \end{bmatrix}.
 # $$
 #
-# So $U = M\,T_{\text{stack}}$ with $M$ of size $n \times m(d+1)$,
+# So $U = A\,T_{\text{stack}}$ with $A$ of size $n \times m(d+1)$,
 # $M_{i,\,j(d+1)+c} = w_{ij}\,[v_i; 1]_c$, and $T_{\text{stack}}$ of size
-# $m(d+1) \times d$. $M$ depends only on the rest pose and the weights: it is
+# $m(d+1) \times d$. $A$ depends only on the rest pose and the weights: it is
 # computed **once**. Every new pose then costs a single dense product, $O(n\,m\,d^2)$
 # operations with no solve and no branching, which is why skinning runs in a GPU
 # vertex shader at any frame rate.
 #
-# **Your task.** `lbs_matrix(V, W)` returns $M$ (as a dense array; it equals
+# (We call it $A$: in stage 04, $M$ is the mass matrix.)
+#
+# **Your task.** `lbs_matrix(V, W)` returns $A$ (as a dense array; it equals
 # `igl.lbs_matrix(V, W)`). Build it with broadcasting: an `(n, m, d+1)` array of
 # the products $w_{ij}[v_i;1]_c$ reshaped to `(n, m(d+1))`.
 
 # %% deformlab={"solution": "lbs_matrix"}
+import numpy as np
+
+
+def lbs_matrix(V, W):
+    """The linear blend skinning matrix: deformed positions are this matrix times the stacked transforms.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    W : (n, m) array_like of float
+        Weights, one column per handle.
+
+    Returns
+    -------
+    A : (n, m(d+1)) numpy.ndarray
+        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``
+        (it equals ``igl.lbs_matrix(V, W)``).
+    """
+    ### BEGIN SOLUTION
+    V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)
+    n, m = W.shape
+    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [v_iᵀ 1]
+    # (n, m, d+1): w_ij [v_i; 1]_c, then the handles side by side
+    return (W[:, :, None] * V_homogeneous[:, None, :]).reshape(n, -1)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "lbs_matrix", "points": 4}
-_M = lbs_matrix(np.array([[1.0, 2.0]]), np.array([[0.25, 0.75]]))
+_A = lbs_matrix(np.array([[1.0, 2.0]]), np.array([[0.25, 0.75]]))
 _expected = np.array([[0.25, 0.5, 0.25, 0.75, 1.5, 0.75]])
-assert _M.shape == (1, 6), f"one vertex in 2D with two handles gives M of shape (1, 2·3) = (1, 6), got {_M.shape}"
-assert np.allclose(_M, _expected), (
+assert _A.shape == (1, 6), f"one vertex in 2D with two handles gives A of shape (1, 2·3) = (1, 6), got {_A.shape}"
+assert np.allclose(_A, _expected), (
     f"for v = (1, 2) and w = (0.25, 0.75) the row is [w_1·(1, 2, 1), w_2·(1, 2, 1)] = {_expected.ravel().tolist()}, "
-    f"got {np.round(_M, 6).ravel().tolist()}"
+    f"got {np.round(_A, 6).ravel().tolist()}"
 )
 
 _V, _F = load_mesh("character")
 _W = rng.uniform(size=(len(_V), 4))
 _W /= _W.sum(axis=1, keepdims=True)
-_M = lbs_matrix(_V, _W)
-assert _M.shape == (len(_V), 4 * 3), f"for n = {len(_V)}, m = 4, d = 2 expected shape {(len(_V), 12)}, got {_M.shape}"
-_diff = np.abs(_M - igl.lbs_matrix(_V, _W)).max()
-assert _diff < 1e-12, f"M differs from igl.lbs_matrix by up to {_diff:.3e}"
+_A = lbs_matrix(_V, _W)
+assert _A.shape == (len(_V), 4 * 3), f"for n = {len(_V)}, m = 4, d = 2 expected shape {(len(_V), 12)}, got {_A.shape}"
+_diff = np.abs(_A - igl.lbs_matrix(_V, _W)).max()
+assert _diff < 1e-12, f"A differs from igl.lbs_matrix by up to {_diff:.3e}"
 
 _V, _F = load_mesh("cylinder")
 _W = rng.uniform(size=(len(_V), 2))
@@ -110,14 +139,14 @@ _U = lbs_matrix(_V, _W) @ np.vstack([_T[0].T, _T[1].T])
 _expected = _W[:, :1] * (_V @ _T[0, :, :3].T + _T[0, :, 3]) + _W[:, 1:] * (_V @ _T[1, :, :3].T + _T[1, :, 3])
 _err = np.linalg.norm(_U - _expected, axis=1)
 assert _err.max() < 1e-10, (
-    f"M @ vstack(T_jᵀ) must give the skinned positions; in 3D vertex {_err.argmax()} is off by {_err.max():.2e}"
+    f"A @ vstack(T_jᵀ) must give the skinned positions; in 3D vertex {_err.argmax()} is off by {_err.max():.2e}"
 )
 
 # %% [markdown]
 # ## 2 · Skinning
 #
 # `lbs(V, W, T)` computes the same deformation straight from the formula, without
-# building $M$: transform the rest positions by every handle and blend the
+# building $A$: transform the rest positions by every handle and blend the
 # results with the weights. Two properties of the weights make skinning behave,
 # and the tests check that your `lbs` respects them:
 #
@@ -132,6 +161,32 @@ assert _err.max() < 1e-10, (
 # (`np.einsum` over handles and coordinates does it in one line).
 
 # %% deformlab={"solution": "lbs"}
+import numpy as np
+
+
+def lbs(V, W, T):
+    """Linear blend skinning.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    W : (n, m) array_like of float
+        Weights, one column per handle.
+    T : (m, d, d+1) array_like of float
+        One affine transformation ``[A_j | t_j]`` per handle.
+
+    Returns
+    -------
+    U : (n, d) numpy.ndarray
+        ``u_i = Σ_j W[i, j] T_j [v_i; 1]``.
+    """
+    ### BEGIN SOLUTION
+    V, W, T = (np.asarray(x, dtype=float) for x in (V, W, T))
+    V_homogeneous = np.hstack([V, np.ones((len(V), 1))])
+    moved = np.einsum("jdc,ic->ijd", T, V_homogeneous)  # T_j [v_i; 1] for every vertex and handle
+    return np.einsum("ij,ijd->id", W, moved)  # blended with the weights
+    ### END SOLUTION
 
 # %% deformlab={"tests": "lbs", "points": 4}
 _U = lbs(np.array([[1.0, 0.0]]), np.array([[1.0]]), np.array([[[0.0, -1.0, 0.0], [1.0, 0.0, 0.0]]]))
@@ -250,23 +305,23 @@ T[0, :, 2] += [0.5, -0.1]
 plotting.show_deformation(V, lbs(V, W_regions, T), F, handles=np.concatenate(regions), titles=("rest", "head moved"))
 
 # %% [markdown]
-# **Real time.** With $M$ precomputed, a new pose is one matrix product. The
+# **Real time.** With $A$ precomputed, a new pose is one matrix product. The
 # cell below times an animation of 200 frames both ways.
 
 # %%
 frames = [pose(0.0, -1.2 * np.sin(k / 20), -0.5 * np.sin(k / 20), 0.0, 0.0) for k in range(200)]
 start = time.perf_counter()
-M = lbs_matrix(V, W_bones)
+A = lbs_matrix(V, W_bones)
 precompute = time.perf_counter() - start
 start = time.perf_counter()
 for T in frames:
-    U = M @ T.transpose(0, 2, 1).reshape(-1, 2)
+    U = A @ T.transpose(0, 2, 1).reshape(-1, 2)
 with_matrix = (time.perf_counter() - start) / len(frames)
 start = time.perf_counter()
 for T in frames:
     U = lbs(V, W_bones, T)
 direct = (time.perf_counter() - start) / len(frames)
-print(f"lbs_matrix once: {1e3 * precompute:.2f} ms; per frame: M @ T {1e6 * with_matrix:.0f} µs, lbs {1e6 * direct:.0f} µs")
+print(f"lbs_matrix once: {1e3 * precompute:.2f} ms; per frame: A @ T {1e6 * with_matrix:.0f} µs, lbs {1e6 * direct:.0f} µs")
 
 # %% [markdown]
 # ## 4 · The candy wrapper
@@ -290,8 +345,9 @@ print(f"lbs_matrix once: {1e3 * precompute:.2f} ms; per frame: M @ T {1e6 * with
 # general: a weighted average of rotation matrices is not a rotation (rotations do
 # not form a linear space), and LBS averages matrices. Skinning methods that
 # blend rotations instead, such as dual-quaternion skinning, do not collapse
-# this way, and neither does ARAP when the twist is reached in small steps
-# (stage 03).
+# this way. ARAP reached in small steps (stage 03) collapses much less, but it
+# does shrink too: a surface has no volume to preserve, and a stepwise 180°
+# twist of the bar still narrows its middle (stage 03 measures by how much).
 
 # %%
 V, F = load_mesh("cylinder")

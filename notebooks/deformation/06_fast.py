@@ -26,7 +26,7 @@
 # Transformations*, SIGGRAPH 2012) combine them: keep the LBS deformation
 #
 # $$
-# U = M\,T, \qquad M = \texttt{lbs\_matrix}(V, W) \in \mathbb R^{n \times m(d+1)},
+# U = A\,T, \qquad A = \texttt{lbs\_matrix}(V, W) \in \mathbb R^{n \times m(d+1)},
 # \quad T = \begin{bmatrix} T_1^\top \\ \vdots \\ T_m^\top \end{bmatrix} \in \mathbb R^{m(d+1) \times d},
 # $$
 #
@@ -63,12 +63,38 @@ rng = np.random.default_rng(6)
 #
 # FAST reuses four functions you wrote before. Bring your solutions of
 # `optimal_rotation` (stage 02), `cotangent_weights` and `cotangent_laplacian`
-# (stage 03) and `lbs_matrix` (stage 05); their tests here are short, the
-# notebooks of their stages explain them.
+# (stage 03) and `lbs_matrix` (stage 05); they were graded in their own stages,
+# and their short tests here only help you check the copy.
 
 # %% deformlab={"solution": "optimal_rotation"}
+import numpy as np
 
-# %% deformlab={"tests": "optimal_rotation", "points": 0.5}
+
+def optimal_rotation(S):
+    """The rotation maximizing ``tr(R S)``, for one matrix or a stack of them.
+
+    Parameters
+    ----------
+    S : (d, d) or (k, d, d) array_like of float
+        Covariance matrix or matrices, ``S = Ũ Σ Ṽᵀ``.
+
+    Returns
+    -------
+    R : numpy.ndarray, the shape of ``S``
+        ``R = Ṽ diag(1, …, 1, det(Ṽ Ũᵀ)) Ũᵀ``: orthogonal with ``det R = +1``.
+    """
+    ### BEGIN SOLUTION
+    # np.linalg.svd and det act on the last two axes, so one code path serves (d, d) and (k, d, d).
+    U_tilde, sigma, V_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))
+    V_tilde = np.swapaxes(V_tilde_T, -1, -2).copy()
+    U_tilde_T = np.swapaxes(U_tilde, -1, -2)
+    sign = np.where(np.linalg.det(V_tilde @ U_tilde_T) < 0, -1.0, 1.0)  # -1 where Ṽ Ũᵀ is a reflection
+    # Flip the singular vector of the smallest singular value (numpy's last column): the cheapest fix.
+    V_tilde[..., -1] *= sign[..., None]
+    return V_tilde @ U_tilde_T
+    ### END SOLUTION
+
+# %% deformlab={"tests": "optimal_rotation"}
 _S = rng.normal(size=(40, 3, 3))
 _R = optimal_rotation(_S)
 assert _R.shape == (40, 3, 3), f"a (40, 3, 3) stack must give a (40, 3, 3) stack, got shape {_R.shape}"
@@ -79,8 +105,42 @@ assert np.isclose(np.trace(optimal_rotation(np.diag([1.0, 2.0, -3.0])) @ np.diag
 )
 
 # %% deformlab={"solution": "cotangent_weights"}
+import numpy as np
 
-# %% deformlab={"tests": "cotangent_weights", "points": 0.5}
+
+def cotangent_weights(V, F):
+    """Half the cotangent of every triangle corner.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions, ``d`` in {2, 3}.
+    F : (f, 3) array_like of int
+        Triangles, none of zero area.
+
+    Returns
+    -------
+    C : (f, 3) numpy.ndarray
+        ``C[t, k] = ½ cot`` of the angle at corner ``k`` of triangle ``t``: the weight of
+        the opposite edge ``(F[t, (k+1)%3], F[t, (k+2)%3])``.
+    """
+    ### BEGIN SOLUTION
+    V, F = np.asarray(V, dtype=float), np.asarray(F, dtype=np.int64)
+    C = np.empty(F.shape)
+    for k in range(3):
+        # the two edges leaving corner k
+        a = V[F[:, (k + 1) % 3]] - V[F[:, k]]
+        b = V[F[:, (k + 2) % 3]] - V[F[:, k]]
+        cos_part = np.sum(a * b, axis=1)  # |a| |b| cos θ
+        if V.shape[1] == 2:
+            sin_part = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])  # |a| |b| sin θ
+        else:
+            sin_part = np.linalg.norm(np.cross(a, b), axis=1)
+        C[:, k] = 0.5 * cos_part / sin_part
+    return C
+    ### END SOLUTION
+
+# %% deformlab={"tests": "cotangent_weights"}
 _C = cotangent_weights(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]]), np.array([[0, 1, 2]]))
 assert np.allclose(_C, [[0.0, 1.0, 0.25]]), (
     f"for the triangle (0,0), (2,0), (0,1) expected C = [[0, 1, 0.25]] (½cot at corners 0, 1, 2), got {np.round(_C, 6).tolist()}"
@@ -89,8 +149,40 @@ _V, _F = load_mesh("bar_coarse")
 assert np.allclose(cotangent_weights(_V, _F), igl.cotmatrix_entries(_V, _F)), "C must equal igl.cotmatrix_entries on the bar"
 
 # %% deformlab={"solution": "cotangent_laplacian"}
+import numpy as np
+import scipy.sparse as sp
 
-# %% deformlab={"tests": "cotangent_laplacian", "points": 0.5}
+
+def cotangent_laplacian(V, F):
+    """The cotangent Laplacian (libigl's sign: negative semi-definite).
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    L : (n, n) scipy.sparse matrix
+        Symmetric; ``L[i, j]`` is the sum of the cotangent weights of edge ``(i, j)``,
+        ``L[i, i] = -Σ_{j≠i} L[i, j]``.
+    """
+    ### BEGIN SOLUTION
+    F = np.asarray(F, dtype=np.int64)
+    n = len(V)
+    C = cotangent_weights(V, F)
+    # weight C[t, k] belongs to the edge opposite corner k
+    i = np.concatenate([F[:, (k + 1) % 3] for k in range(3)])
+    j = np.concatenate([F[:, (k + 2) % 3] for k in range(3)])
+    c = np.concatenate([C[:, k] for k in range(3)])
+    off_diagonal = sp.coo_matrix((c, (i, j)), shape=(n, n))  # repeated (i, j) entries add up
+    off_diagonal = (off_diagonal + off_diagonal.T).tocsr()
+    return off_diagonal - sp.diags(np.asarray(off_diagonal.sum(axis=1)).ravel())
+    ### END SOLUTION
+
+# %% deformlab={"tests": "cotangent_laplacian"}
 _V, _F = load_mesh("character")
 _L = cotangent_laplacian(_V, _F)
 assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name__}"
@@ -98,13 +190,39 @@ _diff = abs(sp.csr_matrix(_L) - igl.cotmatrix(_V, _F)).max()
 assert _diff < 1e-10, f"L must equal igl.cotmatrix; they differ by up to {_diff:.3e}"
 
 # %% deformlab={"solution": "lbs_matrix"}
+import numpy as np
 
-# %% deformlab={"tests": "lbs_matrix", "points": 0.5}
+
+def lbs_matrix(V, W):
+    """The linear blend skinning matrix: deformed positions are this matrix times the stacked transforms.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    W : (n, m) array_like of float
+        Weights, one column per handle.
+
+    Returns
+    -------
+    A : (n, m(d+1)) numpy.ndarray
+        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``
+        (it equals ``igl.lbs_matrix(V, W)``).
+    """
+    ### BEGIN SOLUTION
+    V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)
+    n, m = W.shape
+    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [v_iᵀ 1]
+    # (n, m, d+1): w_ij [v_i; 1]_c, then the handles side by side
+    return (W[:, :, None] * V_homogeneous[:, None, :]).reshape(n, -1)
+    ### END SOLUTION
+
+# %% deformlab={"tests": "lbs_matrix"}
 _V, _F = load_mesh("character")
 _W = rng.uniform(size=(len(_V), 3))
-_M = lbs_matrix(_V, _W)
-assert _M.shape == (len(_V), 9), f"for m = 3 handles in 2D expected shape {(len(_V), 9)}, got {np.shape(_M)}"
-assert np.abs(_M - igl.lbs_matrix(_V, _W)).max() < 1e-12, "M must equal igl.lbs_matrix"
+_A = lbs_matrix(_V, _W)
+assert _A.shape == (len(_V), 9), f"for m = 3 handles in 2D expected shape {(len(_V), 9)}, got {np.shape(_A)}"
+assert np.abs(_A - igl.lbs_matrix(_V, _W)).max() < 1e-12, "A must equal igl.lbs_matrix"
 
 # %% [markdown]
 # ## 2 · Rotation clusters
@@ -138,6 +256,48 @@ assert np.abs(_M - igl.lbs_matrix(_V, _W)).max() < 1e-12, "M must equal igl.lbs_
 # start with all centres bunched together does not.
 
 # %% deformlab={"solution": "rotation_clusters"}
+import numpy as np
+
+
+def rotation_clusters(W, k, seed=0):
+    """k-means clusters of the rows of ``W`` (vertices that move alike share a rotation).
+
+    Parameters
+    ----------
+    W : (n, m) array_like of float
+        Skinning weights; row ``i`` is vertex ``i``'s point in weight space.
+    k : int
+        Number of clusters, ``1 ≤ k ≤`` the number of distinct rows.
+    seed : int
+        Seed of ``np.random.default_rng`` for the k-means++ start.
+
+    Returns
+    -------
+    labels : (n,) numpy.ndarray of int
+        In ``range(k)``, each used: a fixed point of Lloyd's algorithm.
+    """
+    ### BEGIN SOLUTION
+    W = np.asarray(W, dtype=float)
+    n = len(W)
+    rng = np.random.default_rng(seed)
+    # k-means++: each next centre is a row drawn with probability ∝ its squared distance to the centres so far
+    centres = W[[rng.integers(n)]]
+    while len(centres) < k:
+        d2 = ((W[:, None, :] - centres[None]) ** 2).sum(axis=2).min(axis=1)
+        centres = np.vstack([centres, W[rng.choice(n, p=d2 / d2.sum())]])
+    labels = np.full(n, -1)
+    for _ in range(1000):
+        d2 = ((W[:, None, :] - centres[None]) ** 2).sum(axis=2)  # (n, k)
+        new = np.argmin(d2, axis=1)  # every row to its nearest centre
+        for c in range(k):
+            if not np.any(new == c):  # an empty cluster restarts at the row farthest from its centre
+                new[np.argmax(d2[np.arange(n), new])] = c
+        if np.array_equal(new, labels):
+            break
+        labels = new
+        centres = np.array([W[labels == c].mean(axis=0) for c in range(k)])  # every centre to its mean
+    return labels
+    ### END SOLUTION
 
 # %% deformlab={"tests": "rotation_clusters", "points": 2}
 # Three well-separated groups of rows: any fixed point finds them.
@@ -179,18 +339,18 @@ for _k in (1, 4, 12):
 # cells of all three corners of $t$, so
 #
 # * the **quadratic** part is $3 \sum_{t,k} C_{tk} \|e'_{tk}\|^2 = 3\,\operatorname{tr}(U^\top (-L)\, U)$
-#   with the cotangent Laplacian $L$; with $U = M T$ it is
-#   $\operatorname{tr}(T^\top Q\, T)$, $Q = 3\,M^\top(-L)\,M$, a small dense
+#   with the cotangent Laplacian $L$; with $U = A T$ it is
+#   $\operatorname{tr}(T^\top Q\, T)$, $Q = 3\,A^\top(-L)\,A$, a small dense
 #   $m(d+1) \times m(d+1)$ matrix;
 # * the **constant** part is $3 \sum_{t,k} C_{tk} \|e_{tk}\|^2$;
 # * the **cross** part is $-2 \sum_c \operatorname{tr}(R_c S_c)$ with the cluster
 #   covariances $S_c = \sum_{i \in c} \sum_{t \ni i} \sum_k C_{tk}\, e_{tk}\, e'^\top_{tk}$.
 #
-# The deformed edge is linear in $T$: $e'_{tk} = (M_a - M_b)\,T$ for the rows
-# $M_a, M_b$ of $M$ at its end points $a, b$. Hence $S_c = P_c\, T$ with
+# The deformed edge is linear in $T$: $e'_{tk} = (A_a - A_b)\,T$ for the rows
+# $A_a, A_b$ of $A$ at its end points $a, b$. Hence $S_c = P_c\, T$ with
 #
 # $$
-# P_c = \sum_{i \in c} \sum_{t \ni i} \sum_k C_{tk}\; e_{tk}\, (M_a - M_b) \;\in \mathbb R^{d \times m(d+1)} ,
+# P_c = \sum_{i \in c} \sum_{t \ni i} \sum_k C_{tk}\; e_{tk}\, (A_a - A_b) \;\in \mathbb R^{d \times m(d+1)} ,
 # $$
 #
 # and with $B(R) = \sum_c (R_c P_c)^\top$ the whole energy is
@@ -219,6 +379,76 @@ for _k in (1, 4, 12):
 # `T.transpose(0, 2, 1).reshape(-1, d)`.
 
 # %% deformlab={"solution": "fast_precompute"}
+import types
+
+import numpy as np
+import scipy.linalg
+
+
+def fast_precompute(V, F, W, clusters, fixed):
+    """What the FAST iterations reuse: ``Q``, the stack of ``P_c``, the constant, the factorized ``Q_ff``.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    W : (n, m) array_like of float
+        Skinning weights.
+    clusters : (n,) array_like of int
+        Every vertex's cluster, labels ``0..k-1``.
+    fixed : array_like of int
+        Handles (columns of ``W``) whose transformations are prescribed.
+
+    Returns
+    -------
+    data : object of your design
+
+    Raises
+    ------
+    ValueError
+        If ``fixed`` is empty or not distinct handles of ``W``, or the energy does
+        not determine the free transformations (``Q_ff`` not positive definite).
+    """
+    ### BEGIN SOLUTION
+    V, F, W = np.asarray(V, dtype=float), np.asarray(F, dtype=np.int64), np.asarray(W, dtype=float)
+    clusters = np.asarray(clusters, dtype=np.int64)
+    fixed = np.asarray(fixed, dtype=np.int64).reshape(-1)
+    (n, d), m, k = V.shape, W.shape[1], clusters.max() + 1
+    if fixed.size == 0:
+        raise ValueError("fixed: at least one handle must be fixed, or a common translation of every handle costs nothing")
+    if fixed.min() < 0 or fixed.max() >= m or len(np.unique(fixed)) != fixed.size:
+        raise ValueError(f"fixed must be distinct handle indices in range({m}), got {fixed.tolist()}")
+    C = cotangent_weights(V, F)
+    A = lbs_matrix(V, W)  # U = A @ T_stack
+    Q = 3.0 * A.T @ (-cotangent_laplacian(V, F) @ A)
+    P = np.zeros((k, d, A.shape[1]))
+    constant = 0.0
+    for edge in range(3):
+        a, b = F[:, (edge + 1) % 3], F[:, (edge + 2) % 3]
+        e = V[a] - V[b]
+        # C e (A_a - A_b) for every triangle, added to the clusters of all three corners
+        triple = C[:, edge, None, None] * e[:, :, None] * (A[a] - A[b])[:, None, :]
+        for corner in range(3):
+            np.add.at(P, clusters[F[:, corner]], triple)
+        constant += 3.0 * np.sum(C[:, edge] * np.sum(e**2, axis=1))
+    rows = np.arange(m * (d + 1)).reshape(m, d + 1)  # the rows of T_stack that belong to each handle
+    fixed_rows = rows[fixed].ravel()
+    free_rows = np.setdiff1d(rows.ravel(), fixed_rows)
+    Q_ff = Q[np.ix_(free_rows, free_rows)]
+    if free_rows.size:
+        eigenvalues = np.linalg.eigvalsh(Q_ff)
+        if eigenvalues.min() <= 1e-10 * max(eigenvalues.max(), 1e-300):
+            raise ValueError(
+                "the energy does not determine the free transformations (Q_ff is singular): is a weight column zero, "
+                "or the mesh planar in 3D?"
+            )
+    return types.SimpleNamespace(
+        d=d, m=m, fixed=fixed, fixed_rows=fixed_rows, free_rows=free_rows, Q=Q, P=P, constant=constant,
+        Q_ff=scipy.linalg.cho_factor(Q_ff) if free_rows.size else None,
+    )
+    ### END SOLUTION
 
 # %% deformlab={"tests": "fast_precompute", "points": 1}
 _V, _F = load_mesh("character")
@@ -238,6 +468,32 @@ for _bad, _why in (
         raise AssertionError(f"fast_precompute must raise ValueError for fixed = {_bad.tolist()}: {_why}")
 
 # %% deformlab={"solution": "fast_energy"}
+import numpy as np
+
+
+def fast_energy(data, T, R):
+    """The ARAP energy of ``lbs(V, W, T)`` with every vertex's cell rotated by its cluster's rotation.
+
+    Parameters
+    ----------
+    data : object
+        From ``fast_precompute``.
+    T : (m, d, d+1) array_like of float
+        One affine transformation per handle.
+    R : (k, d, d) array_like of float
+        One rotation per cluster.
+
+    Returns
+    -------
+    E : float
+        ``tr(Tᵀ Q T) - 2 Σ_c tr(R_c P_c T) + const``.
+    """
+    ### BEGIN SOLUTION
+    T_stack = np.asarray(T, dtype=float).transpose(0, 2, 1).reshape(-1, data.d)
+    S = data.P @ T_stack  # the cluster covariances S_c = P_c T
+    cross = np.einsum("cij,cji->", np.asarray(R, dtype=float), S)  # Σ_c tr(R_c S_c)
+    return float(np.trace(T_stack.T @ data.Q @ T_stack) - 2.0 * cross + data.constant)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "fast_energy", "points": 2}
 def _direct_energy(V, F, W, T, clusters, R):
@@ -265,7 +521,7 @@ _want = _direct_energy(_V, _F, _W, _T, _clusters, _R)
 _E = fast_energy(_data, _T, _R)
 assert np.isclose(_E, _want, rtol=1e-9), (
     f"for random transforms and cluster rotations the energy is {_want:.10g}, got {_E:.10g} "
-    "(every edge counts in the cells of its triangle's three corners: Q = 3 Mᵀ(-L)M)"
+    "(every edge counts in the cells of its triangle's three corners: Q = 3 Aᵀ(-L)A)"
 )
 
 # %% [markdown]
@@ -279,6 +535,28 @@ assert np.isclose(_E, _want, rtol=1e-9), (
 # **Your task.** `fast_rotations(data, T)` returns the `(k, d, d)` rotations.
 
 # %% deformlab={"solution": "fast_rotations"}
+import numpy as np
+
+
+def fast_rotations(data, T):
+    """The local step: the best rotation of every cluster.
+
+    Parameters
+    ----------
+    data : object
+        From ``fast_precompute``.
+    T : (m, d, d+1) array_like of float
+        One affine transformation per handle.
+
+    Returns
+    -------
+    R : (k, d, d) numpy.ndarray
+        ``R_c = optimal_rotation(S_c)``, ``S_c = P_c T``.
+    """
+    ### BEGIN SOLUTION
+    T_stack = np.asarray(T, dtype=float).transpose(0, 2, 1).reshape(-1, data.d)
+    return optimal_rotation(data.P @ T_stack)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "fast_rotations", "points": 2}
 _R = np.asarray(fast_rotations(_data, _T))
@@ -315,6 +593,37 @@ assert np.allclose(_R, [[0.0, -1.0], [1.0, 0.0]]), "when the whole shape turns b
 # the rotations `R`.
 
 # %% deformlab={"solution": "fast_global_step"}
+import numpy as np
+import scipy.linalg
+
+
+def fast_global_step(data, R, fixed_transforms):
+    """The global step: the transformations minimizing the energy for fixed cluster rotations.
+
+    Parameters
+    ----------
+    data : object
+        From ``fast_precompute``.
+    R : (k, d, d) array_like of float
+        One rotation per cluster.
+    fixed_transforms : (len(fixed), d, d+1) array_like of float
+        The prescribed transformations of the fixed handles.
+
+    Returns
+    -------
+    T : (m, d, d+1) numpy.ndarray
+        ``T[fixed] = fixed_transforms``; the free rows solve ``Q_ff T_f = B_f(R) - Q_fc T_c``.
+    """
+    ### BEGIN SOLUTION
+    d, m = data.d, data.m
+    B = np.einsum("cij,cjr->ri", np.asarray(R, dtype=float), data.P)  # B(R) = Σ_c (R_c P_c)ᵀ
+    T_stack = np.zeros((m * (d + 1), d))
+    T_stack[data.fixed_rows] = np.asarray(fixed_transforms, dtype=float).transpose(0, 2, 1).reshape(-1, d)
+    if data.free_rows.size:
+        rhs = B[data.free_rows] - data.Q[np.ix_(data.free_rows, data.fixed_rows)] @ T_stack[data.fixed_rows]
+        T_stack[data.free_rows] = scipy.linalg.cho_solve(data.Q_ff, rhs)
+    return T_stack.reshape(m, d + 1, d).transpose(0, 2, 1)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "fast_global_step", "points": 3}
 _fixed_T = _identity[[3, 4]].copy()
@@ -349,6 +658,41 @@ assert np.allclose(_T, _identity, atol=1e-9), "with the fixed handles at rest an
 # returns `(T, energies)`.
 
 # %% deformlab={"solution": "fast_solve"}
+import numpy as np
+
+
+def fast_solve(data, fixed_transforms, T0=None, iterations=10):
+    """FAST: alternate the local and the global step in the skinning subspace.
+
+    Parameters
+    ----------
+    data : object
+        From ``fast_precompute``.
+    fixed_transforms : (len(fixed), d, d+1) array_like of float
+        The prescribed transformations of the fixed handles.
+    T0 : (m, d, d+1) array_like of float, optional
+        The start; the identity transformations ``[I | 0]`` by default. Its fixed rows
+        are replaced by ``fixed_transforms`` first.
+    iterations : int
+        Local–global iterations.
+
+    Returns
+    -------
+    T : (m, d, d+1) numpy.ndarray
+    energies : (iterations,) numpy.ndarray
+        ``energies[k]``: the energy after iteration ``k``'s global step, with the rotations it used.
+    """
+    ### BEGIN SOLUTION
+    d, m = data.d, data.m
+    T = np.tile(np.eye(d, d + 1), (m, 1, 1)) if T0 is None else np.array(T0, dtype=float)
+    T[data.fixed] = fixed_transforms
+    energies = []
+    for _ in range(iterations):
+        R = fast_rotations(data, T)  # local step
+        T = fast_global_step(data, R, fixed_transforms)  # global step
+        energies.append(fast_energy(data, T, R))
+    return T, np.array(energies)
+    ### END SOLUTION
 
 # %% deformlab={"tests": "fast_solve", "points": 3}
 _T, _energies = fast_solve(_data, _fixed_T, iterations=6)
@@ -486,7 +830,7 @@ print(f"{len(V_fine)} vertices: FAST {1e6 * fast_fine:.0f} µs, ARAP {1e3 * arap
 # turning it up costs per iteration and in the precomputation.
 
 # %% [markdown] deformlab={"answer": "fast_tradeoffs", "points": 2}
-# Two restrictions: (1) the deformation must lie in the LBS subspace, U = M T,
+# Two restrictions: (1) the deformation must lie in the LBS subspace, U = A T,
 # so only what the weights can express is reachable (the arms bend only where
 # weights blend, nothing can bulge where the weights are flat); adding free
 # handles (more weight functions, FAST's "extra weights") enlarges the subspace,

@@ -1,46 +1,75 @@
 """The authoring rules of notebooks/README.md are enforced with messages naming the cell."""
 
-import textwrap
-
 import pytest
 
-from grader.build.authored import AuthoringError, read_authored
+from grader.build.authored import AuthoringError, read_authored, solution_body
+from grader.build.source_notebook import build_source_notebook
 
 HEADER = "# %% [markdown]\n# Title\n\n# %%\nimport numpy as np\n\n"
 
+CENTROID = '''# %% deformlab={"solution": "centroid"}
+def centroid(P, w=None):
+    """The mean of the rows of P."""
+    ### BEGIN SOLUTION
+    return np.mean(P, axis=0)
+    ### END SOLUTION
+'''
 
-def write(tmp_path, body: str):
-    path = tmp_path / "09_example.py"
-    path.write_text(HEADER + textwrap.dedent(body))
+CENTROID_TESTS = '''
+# %% deformlab={"tests": "centroid", "points": 2}
+_c = centroid(np.ones((3, 2)))
+assert _c.shape == (2,)
+'''
+
+
+def write(tmp_path, body: str, name: str = "09_example"):
+    path = tmp_path / f"{name}.py"
+    path.write_text(HEADER + body)
     return path
 
 
 def test_a_well_formed_notebook_lists_its_functions_in_order(tmp_path):
-    nb = read_authored(write(tmp_path, '''
-        # %% deformlab={"solution": "centroid"}
-
-        # %% deformlab={"tests": "centroid", "points": 2}
-        _c = centroid(np.ones((3, 2)))
-        assert _c.shape == (2,)
-
-        # %% [markdown] deformlab={"answer": "why", "points": 1}
-        # Because.
-        '''))
+    nb = read_authored(write(tmp_path, CENTROID + CENTROID_TESTS + '''
+# %% [markdown] deformlab={"answer": "why", "points": 1}
+# Because.
+'''))
     assert nb.functions == ["centroid"]
     assert [c.kind for c in nb.cells] == ["text", "provided", "solution", "tests", "answer"]
+
+
+def test_the_solution_cell_is_the_teaching_code_and_its_body_is_what_the_release_drops(tmp_path):
+    nb = read_authored(write(tmp_path, CENTROID + CENTROID_TESTS))
+    solution = next(c for c in nb.cells if c.kind == "solution")
+    assert solution.source.strip() == CENTROID.split("\n", 1)[1].strip()
+    assert solution_body(solution.source).strip() == "return np.mean(P, axis=0)"
+    cell = build_source_notebook(nb).cells[2]
+    assert cell.source == solution.source and cell.metadata["nbgrader"]["grade_id"] == "solution_centroid"
+
+
+def _solution(body: str) -> str:
+    return '# %% deformlab={"solution": "centroid"}\n' + body + CENTROID_TESTS
 
 
 @pytest.mark.parametrize(
     "body, message",
     [
-        ('# %% deformlab={"solution": "centroid"}\nx = 1\n', "must be empty"),
+        (_solution(""), "only imports and def centroid"),
+        (_solution("x = 1\n"), "only imports and def centroid"),
+        (_solution("def centroid(P, w=None):\n    ### BEGIN SOLUTION\n    return P\n    ### END SOLUTION\n"), "needs a docstring"),
+        (_solution('def centroid(P, w=None):\n    """Mean."""\n    return P\n'), "needs one ### BEGIN SOLUTION"),
+        (_solution('def centroid(P, w=None):\n    """Mean."""\n    P = P\n    ### BEGIN SOLUTION\n    return P\n    ### END SOLUTION\n'),
+         "must enclose the whole body"),
+        (_solution('def centroid(P, w=None):\n    """Mean."""\n    ### BEGIN SOLUTION\n    return centroid_of(P)\n    ### END SOLUTION\n\n\n'
+                   'def centroid_of(P):\n    return P\n'), "only imports and def centroid"),
+        (_solution('def centroid(P, w=None):\n    """Mean."""\n    ### BEGIN SOLUTION\n    return covariance_matrix(P, P)\n    ### END SOLUTION\n'),
+         "uses covariance_matrix before its solution cell"),
         ('# %% deformlab={"solution": "no_such_function"}\n', "not a contract function"),
         ('# %%\ndef centroid(P):\n    return P\n', "defines the contract name"),
         ('# %%\ncentroid(np.ones((2, 2)))\n', "before its solution cell"),
-        ('# %% deformlab={"solution": "centroid"}\n\n# %% deformlab={"tests": "centroid", "points": 0}\nassert True\n', "positive points"),
-        ('# %% deformlab={"solution": "centroid"}\n\n# %% deformlab={"tests": "centroid", "points": 1}\nresult = 1\n', "must start with '_'"),
-        ('# %% deformlab={"solution": "centroid"}\n', "no tests cell for centroid"),
-        ('# %% deformlab={"solution": "centroid"}\n\n# %% deformlab={"solution": "centroid"}\n', "second solution cell"),
+        (CENTROID + '\n# %% deformlab={"tests": "centroid", "points": 0}\nassert True\n', "positive points"),
+        (CENTROID + '\n# %% deformlab={"tests": "centroid", "points": 1}\nresult = 1\n', "must start with '_'"),
+        (CENTROID, "no tests cell for centroid"),
+        (CENTROID + "\n" + CENTROID, "second solution cell"),
     ],
 )
 def test_broken_rules_are_refused_with_a_message_naming_them(tmp_path, body, message):
@@ -48,19 +77,11 @@ def test_broken_rules_are_refused_with_a_message_naming_them(tmp_path, body, mes
         read_authored(write(tmp_path, body))
 
 
-def test_a_reference_call_without_its_own_solution_cell_is_refused(tmp_path):
-    from grader.build.source_notebook import build_source_notebook
-
-    # rigid_align's reference uses other contract functions that this notebook lacks.
-    from grader.build.lift import lift
-
-    if not lift("rigid_align").calls:
-        pytest.skip("the reference rigid_align calls no other contract function")
-    nb = read_authored(write(tmp_path, '''
-        # %% deformlab={"solution": "rigid_align"}
-
-        # %% deformlab={"tests": "rigid_align", "points": 2}
-        assert rigid_align is not None
-        '''))
-    with pytest.raises(AuthoringError, match="need their own solution cells"):
-        build_source_notebook(nb)
+def test_a_function_of_an_earlier_stage_is_checked_but_not_graded_again(tmp_path):
+    public = CENTROID + '\n# %% deformlab={"tests": "centroid"}\nassert centroid(np.ones((3, 2))).shape == (2,)\n'
+    nb = build_source_notebook(read_authored(write(tmp_path, public, "02_sign_correction")))
+    check = nb.cells[3].metadata["nbgrader"]
+    assert check == {"grade": False, "grade_id": "public_check_centroid", "locked": True, "schema_version": 3, "solution": False}
+    assert "HIDDEN" not in nb.cells[3].source
+    with pytest.raises(AuthoringError, match="graded in 01_shape_matching"):
+        read_authored(write(tmp_path, CENTROID + CENTROID_TESTS, "02_sign_correction"))

@@ -6,8 +6,17 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from grader.build.lift import lift
-from grader.build.release import DEMO, ReleaseReport, check_demo_execution, release, scan_for_leaks, write_bundle
+from grader.build.authored import solution_body
+from grader.build.release import (
+    DEMO,
+    ReleaseReport,
+    check_demo_execution,
+    reference_body,
+    release,
+    scan_for_leaks,
+    teaching_bodies,
+    write_bundle,
+)
 from grader.paths import CoursePaths
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -39,7 +48,10 @@ def test_release_notebooks_keep_signatures_and_docstrings_but_no_solution(releas
     cell = next(c for c in nb.cells if (c.metadata.get("nbgrader") or {}).get("grade_id") == "solution_arap_solve")
     assert cell.source.count("def arap_solve(") == 1
     assert '"""' in cell.source and "raise NotImplementedError()" in cell.source
-    assert lift("arap_solve").body.strip().splitlines()[-1].strip() not in cell.source
+    source = nbformat.read(paths.source / "deformation" / "03_arap.ipynb", as_version=4)
+    taught = next(c for c in source.cells if (c.metadata.get("nbgrader") or {}).get("grade_id") == "solution_arap_solve")
+    body = [line.strip() for line in solution_body(taught.source).splitlines() if len(line.strip()) > 20]
+    assert body and not any(line in cell.source for line in body)
 
 
 @pytest.mark.slow
@@ -100,9 +112,17 @@ def test_the_demo_check_reports_a_failing_cell_and_missing_widget_and_animation(
 def test_the_leak_scan_finds_a_pasted_reference_body():
     import json
 
-    pasted = {"cells": [{"source": ["x = 1\n"] + [line + "\n" for line in lift("optimal_rotation").body.splitlines()]}]}
+    pasted = {"cells": [{"source": ["x = 1\n"] + [line + "\n" for line in reference_body("optimal_rotation").splitlines()]}]}
     problems = scan_for_leaks({"release/02.ipynb": json.dumps(pasted)})
-    assert any("reference code of optimal_rotation" in p for p in problems)
+    assert any("the code of reference optimal_rotation" in p for p in problems)
+
+
+def test_the_leak_scan_finds_a_pasted_teaching_solution():
+    teaching = teaching_bodies(ROOT / "notebooks", "deformation")
+    assert "teaching arap_solve (03_arap)" in teaching
+    pasted = "def f():\n" + "\n".join("    " + line for line in teaching["teaching arap_solve (03_arap)"].splitlines())
+    problems = scan_for_leaks({"starter/helper.py": pasted}, teaching)
+    assert any("the code of teaching arap_solve (03_arap)" in p for p in problems)
 
 
 def test_the_leak_scan_ignores_public_input_checks():

@@ -5,7 +5,7 @@ import copy
 import nbformat
 import pytest
 
-from grader.build.lift import BEGIN_SOLUTION, END_SOLUTION, lift
+from grader.build.authored import BEGIN_SOLUTION, END_SOLUTION
 from grader.cli import main
 
 
@@ -14,25 +14,27 @@ def student_notebook(source_notebooks, tmp_path_factory):
     """01_shape_matching as a student has it after the release: stubs, public tests only."""
     from nbgrader.preprocessors import ClearHiddenTests, ClearSolutions
 
-    nb = nbformat.read(source_notebooks["01_shape_matching"], as_version=4)
+    source = nbformat.read(source_notebooks["01_shape_matching"], as_version=4)
     resources = {}
-    nb, resources = ClearSolutions(code_stub={"python": "# YOUR CODE HERE\nraise NotImplementedError()"}).preprocess(nb, resources)
+    nb, resources = ClearSolutions(code_stub={"python": "# YOUR CODE HERE\nraise NotImplementedError()"}).preprocess(copy.deepcopy(source), resources)
     nb, resources = ClearHiddenTests().preprocess(nb, resources)
-    return nb, tmp_path_factory.mktemp("student")
+    solutions = {(c.metadata.get("nbgrader") or {}).get("grade_id"): c.source for c in source.cells}
+    return nb, tmp_path_factory.mktemp("student"), solutions
 
 
-def fill(nb, function):
-    """Paste a correct solution into one solution cell, as a student would (no markers)."""
+def fill(nb, function, solutions):
+    """Paste the teaching solution into one solution cell, as a student would (no markers)."""
     nb = copy.deepcopy(nb)
-    cell = next(c for c in nb.cells if (c.metadata.get("nbgrader") or {}).get("grade_id") == f"solution_{function}")
-    cell.source = "\n".join(l for l in lift(function).source.splitlines() if l.strip() not in (BEGIN_SOLUTION, END_SOLUTION))
+    grade_id = f"solution_{function}"
+    cell = next(c for c in nb.cells if (c.metadata.get("nbgrader") or {}).get("grade_id") == grade_id)
+    cell.source = "\n".join(l for l in solutions[grade_id].splitlines() if l.strip() not in (BEGIN_SOLUTION, END_SOLUTION))
     return nb
 
 
 def test_filling_one_function_makes_its_public_tests_pass_and_others_fail(student_notebook, capsys):
-    nb, folder = student_notebook
+    nb, folder, solutions = student_notebook
     path = folder / "01_shape_matching.ipynb"
-    nbformat.write(fill(nb, "centroid"), path)
+    nbformat.write(fill(nb, "centroid", solutions), path)
     code = main(["check", str(path)])
     out = capsys.readouterr().out
     lines = {line.split()[0]: line.split()[1] for line in out.splitlines()[1:] if line and line.split()[0] != "0" and len(line.split()) > 1}
@@ -43,9 +45,9 @@ def test_filling_one_function_makes_its_public_tests_pass_and_others_fail(studen
 
 
 def test_a_complete_notebook_passes_with_exit_status_zero(student_notebook, capsys):
-    nb, folder = student_notebook
+    nb, folder, solutions = student_notebook
     for fn in ("centroid", "covariance_matrix", "optimal_orthogonal", "orthogonal_align"):
-        nb = fill(nb, fn)
+        nb = fill(nb, fn, solutions)
     path = folder / "complete.ipynb"
     nbformat.write(nb, path)
     assert main(["check", str(path)]) == 0
