@@ -12,7 +12,7 @@ from pathlib import Path
 
 import jupytext
 
-from grader.contract import CONTRACT_NAMES
+from grader.contract import CONTRACT_NAMES, LECTURE_NAMES
 
 
 class AuthoringError(ValueError):
@@ -79,9 +79,14 @@ def _classify(cell, index: int, path: Path) -> AuthoredCell:
         if name not in CONTRACT_NAMES:
             raise AuthoringError(f"{where}: solution cell names {name!r}, which is not a contract function")
         if cell.source.strip():
-            raise AuthoringError(
-                f"{where}: the solution cell for {name} must be empty: the build fills it from reference/"
-            )
+            # LECTURE_CONTRACT.md's functions are taught by code written in the notebook, not lifted.
+            if name not in LECTURE_NAMES:
+                raise AuthoringError(
+                    f"{where}: the solution cell for {name} must be empty: the build fills it from reference/"
+                )
+            if "### BEGIN SOLUTION" not in cell.source or "### END SOLUTION" not in cell.source:
+                raise AuthoringError(f"{where}: the solution cell for {name} needs ### BEGIN/END SOLUTION markers")
+            return AuthoredCell("solution", cell.source, function=name)
         return AuthoredCell("solution", "", function=name)
     if "tests" in meta:
         name = meta["tests"]

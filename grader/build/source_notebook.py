@@ -13,8 +13,9 @@ from pathlib import Path
 
 import nbformat
 
-from grader.build.authored import AuthoredNotebook, AuthoringError, read_authored
+from grader.build.authored import AuthoredNotebook, AuthoringError, read_authored, referenced_names
 from grader.build.lift import lift
+from grader.contract import CONTRACT_NAMES
 
 BEGIN_HIDDEN = "### BEGIN HIDDEN TESTS"
 END_HIDDEN = "### END HIDDEN TESTS"
@@ -91,17 +92,21 @@ def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
                 )
             )
         elif cell.kind == "solution":
-            lifted = lift(cell.function)
-            missing = sorted(lifted.calls - solved)
+            if cell.source:  # written in the notebook, used as written
+                source, calls = cell.source, (referenced_names(cell.source) & CONTRACT_NAMES) - {cell.function}
+            else:
+                lifted = lift(cell.function)
+                source, calls = lifted.source, lifted.calls
+            missing = sorted(calls - solved)
             if missing:
                 raise AuthoringError(
-                    f"{authored.path.name}: reference {cell.function} calls {', '.join(missing)}, "
+                    f"{authored.path.name}: {cell.function} calls {', '.join(missing)}, "
                     "which need their own solution cells earlier in this notebook"
                 )
             solved.add(cell.function)
             nb.cells.append(
                 nbformat.v4.new_code_cell(
-                    lifted.source,
+                    source,
                     metadata=_nbgrader(solution_grade_id(cell.function), grade=False, solution=True, locked=False),
                 )
             )

@@ -64,3 +64,32 @@ def test_a_reference_call_without_its_own_solution_cell_is_refused(tmp_path):
         '''))
     with pytest.raises(AuthoringError, match="need their own solution cells"):
         build_source_notebook(nb)
+
+
+def test_a_lecture_contract_solution_written_in_the_notebook_is_used_as_written(tmp_path):
+    from grader.build.source_notebook import build_source_notebook
+
+    solution = 'def dual_quaternions(T):\n    """Doc."""\n    ### BEGIN SOLUTION\n    return T\n    ### END SOLUTION'
+    path = tmp_path / "09_example.py"
+    path.write_text(
+        HEADER + f'# %% deformlab={{"solution": "dual_quaternions"}}\n{solution}\n\n'
+        '# %% deformlab={"tests": "dual_quaternions", "points": 1}\nassert dual_quaternions(1) == 1\n'
+    )
+    nb = read_authored(path)
+    source = build_source_notebook(nb)
+    assert [c.source for c in source.cells if c.metadata.get("nbgrader", {}).get("grade_id") == "solution_dual_quaternions"] == [solution]
+
+
+@pytest.mark.parametrize(
+    "function, source, message",
+    [
+        ("centroid", "def centroid(P, w=None):\n    ### BEGIN SOLUTION\n    return P\n    ### END SOLUTION", "must be empty"),
+        ("dqs", "def dqs(V, W, T):\n    return V", "needs ### BEGIN/END SOLUTION markers"),
+    ],
+)
+def test_a_written_solution_needs_a_lecture_contract_function_and_markers(tmp_path, function, source, message):
+    body = f'# %% deformlab={{"solution": "{function}"}}\n{source}\n'
+    path = tmp_path / "09_example.py"
+    path.write_text(HEADER + body)
+    with pytest.raises(AuthoringError, match=message):
+        read_authored(path)
