@@ -98,7 +98,7 @@ def dual_quaternion_transforms(Q):
 
 
 def dqs(V, W, T):
-    """Deform a mesh by dual-quaternion skinning, equal to ``igl.dqs``.
+    """Deform a mesh by dual-quaternion skinning, as libigl's C++ ``igl::dqs`` (not in its python bindings).
 
     Parameters
     ----------

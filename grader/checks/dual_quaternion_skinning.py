@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from grader.checks.base import Case, FunctionChecks, as_array, close, verdict
+from grader.checks.lbs import _weights as lbs_weights
 from grader.checks.meshes import relabel
 from grader.checks.shape_matching import random_rotation
 from grader.contract import reference_function
@@ -144,9 +145,7 @@ class DqsChecks(FunctionChecks):
         ramp = np.c_[1.0 - (3 * s**2 - 2 * s**3), 3 * s**2 - 2 * s**3]
 
         def weights(n, m, normalized=True):
-            W = rng.uniform(0.0, 1.0, (n, m)) ** 2 * (rng.uniform(size=(n, m)) < 0.8)
-            W[np.arange(n), rng.integers(0, m, n)] += 0.1
-            return W / W.sum(axis=1, keepdims=True) if normalized else W
+            return lbs_weights(rng, n, m, normalized)
 
         twist = np.stack([np.eye(3, 4), np.c_[_turn((1, 0, 0), 150.0), [0.5, 0.0, 0.0]]])
         across = np.stack([np.c_[_turn((0, 0, 1), 170.0), np.zeros(3)], np.c_[_turn((0, 0, 1), -170.0), [0.0, 0.3, 0.0]]])
