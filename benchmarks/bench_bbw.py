@@ -1,4 +1,4 @@
-"""Reference ``bbw`` against ``igl.bbw`` on the ~10k-vertex 2D character.
+"""Reference ``bbw`` against ``igl.bbw``: the ~10k-vertex 2D character, then a family of shapes.
 
 The mesh is ``starter.shapes.character_2d`` (Triangle, through
 ``igl.triangle``) with its area bound set for about 10,000 vertices, and four
@@ -17,7 +17,14 @@ some steps 100x slower (a 200x200 ``cho_factor`` measured 0.3 s instead of
 ``igl.bbw`` does not use BLAS; its own threads are left alone (its CPU time
 exceeds its wall time).
 
-Run with ``.venv/bin/python -m benchmarks.bench_bbw``.
+The **family** (``family()``) times both solvers the same way on eight more
+problems, so that a speed-up tuned on the character cannot hide a slow shape:
+convex, notched, with holes, with thin parts, few and many (20) handles, point
+handles, bones and regions. Its figure is the worst CPU ratio over the family
+(target ≤ 0.5, aim ≤ 0.25) and the largest weight difference (≤ 1e-4).
+Tetrahedral meshes are not in it: the reference ``bbw`` takes triangles only.
+
+Run with ``.venv/bin/python -m benchmarks bbw``.
 """
 
 from __future__ import annotations
@@ -29,12 +36,13 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from reference.bounded_biharmonic_weights import bbw, handle_constraints
-from starter.shapes import character_2d, character_2d_handles
+from starter.shapes import _edge_length, _loop_edges, _triangulate, character_2d, character_2d_handles, disc_with_holes
 
 # character_2d's docstring: 1.3e-4 gives about 10,000 vertices
 MAX_AREA = 1.3e-4
 POINT_HANDLES = 4  # head, left hand, right hand, left foot
 RUNS = 5
+FAMILY_RUNS = 2
 
 
 def character_problem():
@@ -51,6 +59,55 @@ def character_problem():
     points = character_2d_handles(V)["points"][:POINT_HANDLES]
     b, bc = handle_constraints([[int(i)] for i in points])
     return V, F, b, bc
+
+
+def _polygon(outline, max_area):
+    """Quality triangulation of a simple polygon ``outline`` ``(k, 2)``, its sides split at the mesh spacing."""
+    spacing = _edge_length(max_area)
+    points = []
+    for a, b in zip(outline, np.roll(outline, -1, axis=0)):
+        pieces = max(1, int(np.ceil(np.linalg.norm(b - a) / spacing)))
+        points.append(a + np.arange(pieces)[:, None] / pieces * (b - a))
+    P = np.vstack(points)
+    return _triangulate(P, _loop_edges(0, len(P)), np.zeros((0, 2)), max_area)
+
+
+def _nearest(V, points):
+    """One point handle per position: the nearest vertex."""
+    return [[int(np.argmin(np.linalg.norm(V - p, axis=1)))] for p in np.asarray(points, float)]
+
+
+def family():
+    """The BBW benchmark family: ``[(label, V, F, handles)]``, ``handles`` a list of vertex index lists.
+
+    Shapes of 5k–10k vertices: a convex square; a U with a deep notch; a comb of
+    thin teeth; a disc with holes; the character with point handles, with bones,
+    and with regions; an L with 20 point handles.
+    """
+    problems = []
+    V, F = _polygon(np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float), 6e-4)
+    problems.append(("convex square, 3 points", V, F, _nearest(V, [[0.3, 0.3], [1.7, 0.5], [1.0, 1.7]])))
+    V, F = _polygon(np.array([[0, 0], [3, 0], [3, 3], [0, 3], [0, 2], [2, 2], [2, 1], [0, 1]], float), 8e-4)
+    problems.append(("U with a deep notch, 4 points", V, F, _nearest(V, [[0.2, 0.5], [0.2, 2.5], [2.8, 1.5], [1.5, 0.5]])))
+    teeth = 6
+    outline = [[0, 0], [teeth, 0]] + [p for k in range(teeth - 1, -1, -1) for p in ([k + 0.75, 1], [k + 0.75, 4], [k + 0.25, 4], [k + 0.25, 1])]
+    V, F = _polygon(np.array(outline, float), 1.5e-3)
+    problems.append(("comb of 6 thin teeth, 7 points", V, F, _nearest(V, [[k + 0.5, 3.9] for k in range(teeth)] + [[3.0, 0.1]])))
+    V, F = disc_with_holes(3, 4e-4)
+    problems.append(("disc with 3 holes, 5 points", V, F, _nearest(V, [[0.9, 0], [-0.9, 0], [0, 0.9], [0, -0.9], [0, 0]])))
+    V, F = character_2d(max_area=MAX_AREA)
+    handles = character_2d_handles(V)
+    problems.append(("character, 5 bones", V, F, [np.asarray(bone) for bone in handles["bones"]]))
+    problems.append((
+        "character, 3 regions and 2 points", V, F,
+        [np.asarray(r) for r in handles["regions"]] + [[int(i)] for i in handles["points"][1:3]],
+    ))
+    V, F = _polygon(np.array([[0, 0], [4, 0], [4, 1], [1, 1], [1, 4], [0, 4]], float), 6e-4)
+    spread = np.random.default_rng(0).choice(len(V), 20, replace=False)
+    problems.append(("L shape, 20 points", V, F, [[int(i)] for i in spread]))
+    V, F = _polygon(np.array([[np.cos(t), np.sin(t)] for t in np.linspace(0, 2 * np.pi, 7)[:-1]]) * [3.0, 1.0], 5e-4)
+    problems.append(("flat hexagon (3 x 1), 2 points", V, F, _nearest(V, [[-2.8, 0], [2.8, 0]])))
+    return problems
 
 
 def _timed(run):
@@ -124,7 +181,41 @@ def main(runs=RUNS):
         f"required <= 0.5, aim <= 0.25"
     )
     print(f"max |W - W_igl normalized|: {figures['max abs(W - W_igl normalized)']:.2e} (required <= 1e-4)")
+    figures.update(family_figures())
     return figures
+
+
+def family_figures(runs=FAMILY_RUNS):
+    """Time both solvers on every problem of ``family()``; CPU ratios per problem and the worst."""
+    ratios, errors = {}, {}
+    print(f"family: {runs} alternating runs each, CPU seconds, BLAS limited to 1 thread")
+    for label, V, F, handles in family():
+        b, bc = handle_constraints(handles)
+        cpu = {"ours": [], "igl": []}
+        with threadpool_limits(limits=1, user_api="blas"):
+            for _ in range(runs):
+                W, _, cpu_ours = _timed(lambda: bbw(V, F, b, bc))
+                W_igl, _, cpu_igl = _timed(lambda: igl.bbw(V, F, b, bc))
+                cpu["ours"].append(cpu_ours)
+                cpu["igl"].append(cpu_igl)
+        ratio = float(np.median(np.array(cpu["ours"]) / np.array(cpu["igl"])))
+        errors[label] = float(np.abs(W - W_igl / W_igl.sum(axis=1, keepdims=True)).max())
+        ratios[label] = ratio
+        print(
+            f"  {label:<36} {len(V):6d} vertices, {len(handles):2d} handles: ours {np.median(cpu['ours']):6.3f} s, "
+            f"igl {np.median(cpu['igl']):6.3f} s, ratio {ratio:.3f}, max |W - W_igl| {errors[label]:.1e}",
+            flush=True,
+        )
+    worst = max(ratios, key=ratios.get)
+    print(f"family worst ratio ours/igl (cpu): {ratios[worst]:.3f} ({worst}); required <= 0.5, aim <= 0.25; "
+          f"largest |W - W_igl| {max(errors.values()):.1e} (required <= 1e-4)")
+    return {
+        "family problems": len(ratios),
+        "family worst ratio cpu ours/igl": ratios[worst],
+        "family worst problem": worst,
+        "family ratios cpu": {k: round(v, 3) for k, v in ratios.items()},
+        "family max abs(W - W_igl normalized)": max(errors.values()),
+    }
 
 
 if __name__ == "__main__":

@@ -2,7 +2,8 @@
 
 The names and their stage are the interface shared by students, ``reference/`` and the
 grader. Stages 00–05 are ``shared/CONTRACT.md``; the bonus stage 06 is
-``BONUS_CONTRACT.md``. ``tests/grader/test_contract.py`` checks this table against both.
+``BONUS_CONTRACT.md``; ``LECTURE_CONTRACT.md`` adds the project's own functions to
+stages. ``tests/grader/test_contract.py`` checks these tables against the three files.
 """
 
 from __future__ import annotations
@@ -48,16 +49,37 @@ STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
     ),
 }
 
+#: the functions of ``LECTURE_CONTRACT.md``, taught in a stage after that stage's own:
+#: stage -> (reference module, functions in the order the notebook teaches them)
+LECTURE_STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
+    "05_lbs": ("dual_quaternion_skinning", ("dual_quaternions", "dual_quaternion_transforms", "dqs")),
+}
+
 #: stages whose points are bonus: flagged in grades.csv and Gradescope, outside the regular maximum
 BONUS_STAGES: frozenset[str] = frozenset({"06_fast"})
 
 #: every contract function -> its reference module (``reference.<module>``)
-MODULE_OF: dict[str, str] = {name: module for module, names in STAGES.values() for name in names}
+MODULE_OF: dict[str, str] = {
+    name: module for module, names in (*STAGES.values(), *LECTURE_STAGES.values()) for name in names
+}
 
 CONTRACT_NAMES: frozenset[str] = frozenset(MODULE_OF)
 
 #: the functions of ``BONUS_CONTRACT.md`` (the rest are ``shared/CONTRACT.md``'s)
 BONUS_NAMES: frozenset[str] = frozenset(n for stage in BONUS_STAGES for n in STAGES[stage][1])
+
+#: the functions of ``LECTURE_CONTRACT.md``
+LECTURE_NAMES: frozenset[str] = frozenset(n for _, names in LECTURE_STAGES.values() for n in names)
+
+
+def stage_functions(notebook: str) -> tuple[str, ...]:
+    """The functions ``notebook`` teaches and grades: its ``shared/CONTRACT.md`` (or bonus) ones, then its lecture ones."""
+    return STAGES[notebook][1] + LECTURE_STAGES.get(notebook, ("", ()))[1]
+
+
+def stage_of(function: str) -> str:
+    """The stage that teaches and grades ``function``."""
+    return next(stage for stage in STAGES if function in stage_functions(stage))
 
 
 def is_bonus(notebook: str) -> bool:

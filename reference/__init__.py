@@ -1,4 +1,4 @@
-"""The hidden reference solution: every function of the student contract (and the bonus one).
+"""The hidden reference solution: every function of the student contract (and of the bonus and lecture ones).
 
 One module per stage; every contract function is importable from the package
 itself, e.g. ``from reference import arap_solve``. Never shipped to students,
@@ -27,6 +27,7 @@ from reference.bounded_biharmonic_weights import (
     unconstrained_biharmonic_weights,
 )
 from reference.linear_blend_skinning import lbs, lbs_matrix
+from reference.dual_quaternion_skinning import dqs, dual_quaternion_transforms, dual_quaternions
 from reference.fast import (
     fast_energy,
     fast_global_step,
@@ -45,5 +46,6 @@ __all__ = [
     "biharmonic_matrix", "handle_constraints", "inverse_distance_weights",
     "unconstrained_biharmonic_weights", "bbw",
     "lbs_matrix", "lbs",
+    "dual_quaternions", "dual_quaternion_transforms", "dqs",
     "rotation_clusters", "fast_precompute", "fast_energy", "fast_rotations", "fast_global_step", "fast_solve",
 ]

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import jupytext
 
-from grader.contract import CONTRACT_NAMES, STAGES
+from grader.contract import CONTRACT_NAMES, STAGES, stage_functions, stage_of
 
 BEGIN_SOLUTION = "### BEGIN SOLUTION"
 END_SOLUTION = "### END SOLUTION"
@@ -72,9 +72,9 @@ def referenced_names(source: str) -> set[str]:
 
 def earlier_stage(notebook: str, function: str) -> str | None:
     """The stage that grades ``function`` if it is not ``notebook``'s own (a function the student copies over)."""
-    if notebook not in STAGES or function in STAGES[notebook][1]:
+    if notebook not in STAGES or function in stage_functions(notebook):
         return None
-    return next(stage for stage, (_, names) in STAGES.items() if function in names)
+    return stage_of(function)
 
 
 def solution_body(source: str) -> str:

@@ -398,3 +398,422 @@ plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
 # translation, and even the identity pose (t = 0) no longer gives the rest
 # shape. With Σ_j w_ij = 1 every common affine map T, in particular every rigid
 # motion, is reproduced exactly: u_i = T [v_i; 1].
+
+# %% [markdown]
+# ## 5 · Dual-quaternion skinning
+#
+# The candy wrapper comes from averaging *matrices*. Kavan et al. (2008) average
+# rigid motions instead, in a representation where a weighted sum of rigid
+# motions is, after normalizing, again a rigid motion: **unit dual quaternions**.
+#
+# **Quaternions.** A quaternion $q = (w, \mathbf v) = w + xi + yj + zk$ is stored
+# scalar first, `(w, x, y, z)`. The product of $p = (w_1, \mathbf v_1)$ and
+# $q = (w_2, \mathbf v_2)$ is
+#
+# $$
+# p\,q = \bigl(w_1 w_2 - \mathbf v_1 \cdot \mathbf v_2,\;\; w_1 \mathbf v_2 + w_2 \mathbf v_1 + \mathbf v_1 \times \mathbf v_2\bigr),
+# $$
+#
+# which does not commute ($\mathbf v_1 \times \mathbf v_2$ changes sign). A unit
+# quaternion $q = (\cos\tfrac\theta2, \sin\tfrac\theta2\,\mathbf a)$ is the rotation
+# by $\theta$ about the unit axis $\mathbf a$, $x \mapsto q\,(0, x)\,\bar q$ with the
+# conjugate $\bar q = (w, -\mathbf v)$. As a matrix,
+#
+# $$
+# R(q) = (w^2 - \mathbf v \cdot \mathbf v)\, I + 2\,\mathbf v \mathbf v^\top + 2w\,[\mathbf v]_\times ,
+# $$
+#
+# so $\operatorname{tr} R = 4w^2 - 1$, $R_{00} = 2x^2 + w^2 - \mathbf v\cdot\mathbf v$,
+# and $R - R^\top = 4w\,[\mathbf v]_\times$, $R + R^\top$ holds the products $4xy$, $4xz$, $4yz$.
+# $q$ and $-q$ are the same rotation.
+#
+# **Dual quaternions.** With a symbol $\varepsilon$ such that $\varepsilon^2 = 0$,
+# a dual quaternion is $\hat q = q_0 + \varepsilon\, q_e$ (stored as a `(2, 4)` array
+# `[q_0, q_e]`). The rigid motion $x \mapsto R x + t$ is the unit dual quaternion
+#
+# $$
+# \hat q = q_0 + \varepsilon\, \tfrac12\,(0, t)\, q_0 , \qquad q_0 \text{ the unit quaternion of } R ,
+# $$
+#
+# and back: $t = 2\operatorname{vec}(q_e\,\bar q_0)$ (the vector part of the product).
+#
+# **Blending.** Dual-quaternion skinning (DQS) replaces the blend of matrices by
+# a blend of dual quaternions, then normalizes:
+#
+# $$
+# \hat b_i = \sum_j w_{ij}\, s_j\, \hat q_j, \qquad
+# \hat c_i = \hat b_i / \lVert b_{i,0} \rVert, \qquad
+# u_i = T(\hat c_i)\,[v_i; 1].
+# $$
+#
+# Every vertex moves by a **rigid** motion, whatever the weights: no shrinking.
+# The signs $s_j = \pm 1$ matter: $\hat q_j$ and $-\hat q_j$ are the same transform but
+# not the same summand. Averaging $q$ with $-q$ would give zero; DQS puts every
+# handle on the same side as a *pivot*, handle 0, by flipping $\hat q_j$ when
+# $q_{j,0} \cdot q_{0,0} < 0$ (as libigl's `igl::dqs` does). The contract is in
+# `LECTURE_CONTRACT.md`; DQS is 3D only.
+#
+# **Your task.** `dual_quaternions(T)` returns the `(m, 2, 4)` unit dual
+# quaternions of the rigid transforms `T` `(m, 3, 4)`. Read $q_0$ off $R$ with the
+# identities above: of $w^2, x^2, y^2, z^2$ (the diagonal ones) take the largest,
+# so that you never divide by a number close to zero (a half turn has $w = 0$),
+# and get the other three components from the products with it.
+
+# %% deformlab={"solution": "dual_quaternions"}
+import numpy as np
+
+
+def dual_quaternions(T):
+    """Unit dual quaternions of rigid transforms.
+
+    Parameters
+    ----------
+    T : (m, 3, 4) array_like of float
+        Rigid transforms ``[R_j | t_j]``.
+
+    Returns
+    -------
+    Q : (m, 2, 4) numpy.ndarray
+        ``Q[j, 0]`` the unit quaternion ``(w, x, y, z)`` of ``R_j`` (either sign),
+        ``Q[j, 1] = ½ (0, t_j) Q[j, 0]``.
+    """
+    ### BEGIN SOLUTION
+    T = np.asarray(T, dtype=float)
+    Q = np.zeros((len(T), 2, 4))
+    for j, (R, t) in enumerate(zip(T[:, :, :3], T[:, :, 3])):
+        tr = np.trace(R)
+        # P[a, b] = 4 q_a q_b for q = (w, x, y, z): the identities between R and q
+        P = np.array([
+            [1 + tr, R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]],
+            [R[2, 1] - R[1, 2], 1 + 2 * R[0, 0] - tr, R[0, 1] + R[1, 0], R[0, 2] + R[2, 0]],
+            [R[0, 2] - R[2, 0], R[0, 1] + R[1, 0], 1 + 2 * R[1, 1] - tr, R[1, 2] + R[2, 1]],
+            [R[1, 0] - R[0, 1], R[0, 2] + R[2, 0], R[1, 2] + R[2, 1], 1 + 2 * R[2, 2] - tr],
+        ])
+        k = np.argmax(np.diag(P))  # the largest |q_k|
+        q = P[k] / np.sqrt(4 * P[k, k])  # 4 q_k q_b / (4 |q_k|) = ±q_b
+        w, v = q[0], q[1:]
+        Q[j, 0] = q
+        Q[j, 1] = 0.5 * np.r_[-t @ v, w * t + np.cross(t, v)]  # ½ (0, t) q
+    return Q
+    ### END SOLUTION
+
+# %% deformlab={"tests": "dual_quaternions", "points": 3}
+from scipy.spatial.transform import Rotation as _Rotation
+
+_Q = dual_quaternions(np.eye(3, 4)[None])
+assert np.shape(_Q) == (1, 2, 4), f"one transform gives Q of shape (1, 2, 4), got {np.shape(_Q)}"
+assert np.allclose(np.abs(_Q[0, 0]), [1, 0, 0, 0]) and np.allclose(_Q[0, 1], 0), (
+    f"the identity is q_0 = ±(1, 0, 0, 0), q_e = 0, got {np.round(_Q[0], 6).tolist()}"
+    + (": the scalar w must come first, (w, x, y, z)" if np.allclose(np.abs(_Q[0, 0]), [0, 0, 0, 1]) else "")
+)
+# 90° about z: q_0 = ±(cos 45°, 0, 0, sin 45°)
+_Q = dual_quaternions(np.array([[[0.0, -1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]]))
+_want = np.array([1.0, 0.0, 0.0, 1.0]) / np.sqrt(2)
+_hint = ""
+if np.allclose(np.abs(_Q[0, 0]), np.abs(_want[[1, 2, 3, 0]])):
+    _hint = ": the scalar w must come first, (w, x, y, z)"
+elif np.allclose(_Q[0, 0] * np.sign(_Q[0, 0, 0]), [_want[0], 0, 0, -_want[3]]):
+    _hint = ": that is the quaternion of Rᵀ (the inverse turn); check the signs of R[k, j] - R[j, k]"
+assert np.allclose(_Q[0, 0], _want) or np.allclose(_Q[0, 0], -_want), (
+    f"a 90° turn about z is q_0 = ±(cos 45°, 0, 0, sin 45°) = ±{np.round(_want, 4).tolist()}, got {np.round(_Q[0, 0], 4).tolist()}{_hint}"
+)
+# a half turn about x has w = 0: no division by w
+_Q = dual_quaternions(np.array([[[1.0, 0.0, 0.0, 0.0], [0.0, -1.0, 0.0, 0.0], [0.0, 0.0, -1.0, 0.0]]]))
+assert np.all(np.isfinite(_Q)) and np.allclose(np.abs(_Q[0, 0]), [0, 1, 0, 0]), (
+    f"a half turn about x is q_0 = ±(0, 1, 0, 0), got {np.round(_Q[0, 0], 4).tolist()}: with w = 0, read x from the diagonal first"
+)
+# a translation by t = (2, 0, 0): q_e = ½ (0, t) (1, 0, 0, 0) = (0, 1, 0, 0)
+_Q = dual_quaternions(np.array([[[1.0, 0.0, 0.0, 2.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]]))
+_Q = _Q * np.sign(_Q[0, 0, 0])
+assert np.allclose(_Q[0, 1], [0, 1, 0, 0]), (
+    f"a translation by (2, 0, 0) has q_e = ½ (0, t) q_0 = (0, 1, 0, 0), got {np.round(_Q[0, 1], 4).tolist()}"
+    + (": the factor ½ is missing" if np.allclose(_Q[0, 1], [0, 2, 0, 0]) else "")
+)
+# random rigid transforms: q_0 against scipy (which stores (x, y, z, w)), q_e = ½ (0, t) q_0
+_R = _Rotation.random(6, random_state=3).as_matrix()
+_t = rng.normal(size=(6, 3))
+_Q = dual_quaternions(np.concatenate([_R, _t[:, :, None]], axis=2))
+_scipy = _Rotation.from_matrix(_R).as_quat()[:, [3, 0, 1, 2]]
+_sign = np.sign(np.sum(_Q[:, 0] * _scipy, axis=1))[:, None]
+assert np.allclose(_sign * _Q[:, 0], _scipy, atol=1e-10), "q_0 differs from scipy's quaternion of R beyond the sign"
+_w, _v = _Q[:, 0, :1], _Q[:, 0, 1:]
+_right = 0.5 * np.c_[-np.sum(_t * _v, axis=1), _w * _t + np.cross(_t, _v)]
+_left = 0.5 * np.c_[-np.sum(_t * _v, axis=1), _w * _t + np.cross(_v, _t)]
+assert np.allclose(_Q[:, 1], _right, atol=1e-10), (
+    "q_e must be ½ (0, t) q_0, with the same sign as q_0"
+    + (": you computed ½ q_0 (0, t); quaternion products do not commute" if np.allclose(_Q[:, 1], _left, atol=1e-10) else "")
+)
+
+# %% [markdown]
+# **Your task.** `dual_quaternion_transforms(Q)` goes back: for each dual
+# quaternion `[q_0, q_e]` (not necessarily unit: DQS will pass weighted sums),
+# divide both parts by $\lVert q_0 \rVert$, then $R = R(c_0)$ and
+# $t = 2\operatorname{vec}(c_e \bar c_0) = 2\,(w_0 \mathbf v_e - w_e \mathbf v_0 + \mathbf v_0 \times \mathbf v_e)$,
+# and return the `(k, 3, 4)` transforms `[R | t]`.
+
+# %% deformlab={"solution": "dual_quaternion_transforms"}
+import numpy as np
+
+
+def dual_quaternion_transforms(Q):
+    """Rigid transforms of dual quaternions, normalized first.
+
+    Parameters
+    ----------
+    Q : (k, 2, 4) array_like of float
+        Dual quaternions ``[q_0, q_e]``, ``q_0 != 0``.
+
+    Returns
+    -------
+    T : (k, 3, 4) numpy.ndarray
+        ``[R | t]`` with ``c = q / ‖q_0‖``, ``R`` the rotation of ``c_0``, ``t = 2 vec(c_e c̄_0)``.
+    """
+    ### BEGIN SOLUTION
+    Q = np.asarray(Q, dtype=float)
+    T = np.zeros((len(Q), 3, 4))
+    for k, (q0, qe) in enumerate(Q):
+        c0, ce = q0 / np.linalg.norm(q0), qe / np.linalg.norm(q0)
+        w, v, we, ve = c0[0], c0[1:], ce[0], ce[1:]
+        cross = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])  # [v]×
+        T[k, :, :3] = (w * w - v @ v) * np.eye(3) + 2 * np.outer(v, v) + 2 * w * cross
+        T[k, :, 3] = 2 * (w * ve - we * v + np.cross(v, ve))
+    return T
+    ### END SOLUTION
+
+# %% deformlab={"tests": "dual_quaternion_transforms", "points": 3}
+from scipy.spatial.transform import Rotation as _Rotation
+
+_T = dual_quaternion_transforms(np.array([[[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]]))
+assert np.shape(_T) == (1, 3, 4), f"one dual quaternion gives T of shape (1, 3, 4), got {np.shape(_T)}"
+assert np.allclose(_T[0], np.c_[np.eye(3), [2.0, 0.0, 0.0]]), (
+    f"[q_0, q_e] = [(1, 0, 0, 0), (0, 1, 0, 0)] is the translation by t = 2 vec(q_e) = (2, 0, 0), got {np.round(_T[0], 4).tolist()}"
+)
+_c = np.sqrt(0.5)
+_T = dual_quaternion_transforms(np.array([[[_c, 0.0, 0.0, _c], [0.0, 0.0, 0.0, 0.0]]]))
+assert np.allclose(_T[0, :, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]]), (
+    f"q_0 = (cos 45°, 0, 0, sin 45°) is the turn by 90° about z, [[0, -1, 0], [1, 0, 0], [0, 0, 1]], got {np.round(_T[0, :, :3], 4).tolist()}"
+    + (": R is transposed" if np.allclose(_T[0, :, :3], [[0, 1, 0], [-1, 0, 0], [0, 0, 1]]) else "")
+)
+_R = _Rotation.random(5, random_state=4).as_matrix()
+_T0 = np.concatenate([_R, rng.normal(size=(5, 3, 1))], axis=2)
+_Q = dual_quaternions(_T0)
+_err = np.abs(dual_quaternion_transforms(_Q) - _T0).max()
+assert _err < 1e-10, f"dual_quaternion_transforms(dual_quaternions(T)) must give T back; off by {_err:.2e}"
+_scaled = np.concatenate([3.0 * _Q[:2], -0.5 * _Q[2:]])
+_T = dual_quaternion_transforms(_scaled)
+_err = np.abs(_T - _T0).max()
+assert _err < 1e-10, (
+    f"3 q̂ and -0.5 q̂ are the same transform as q̂; off by {_err:.2e}"
+    + (": divide q_e by ‖q_0‖ too" if np.allclose(_T[:, :, :3], _T0[:, :, :3], atol=1e-10) else ": divide q_0 by its norm")
+)
+
+# %% [markdown]
+# **Your task.** `dqs(V, W, T)` skins `V` `(n, 3)` with the weights `W` `(n, m)`
+# and rigid transforms `T` `(m, 3, 4)`: build the handles' dual quaternions,
+# flip those on the other side of handle 0's, blend them with each vertex's
+# weights (one matrix product: the weights are `(n, m)`, the dual quaternions
+# `(m, 8)` once flattened), turn the blends into transforms and apply them.
+
+# %% deformlab={"solution": "dqs"}
+import numpy as np
+
+
+def dqs(V, W, T):
+    """Deform a mesh by dual-quaternion skinning.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+        Rest positions.
+    W : (n, m) array_like of float
+        Skinning weights, one column per handle.
+    T : (m, 3, 4) array_like of float
+        One rigid transform ``[R_j | t_j]`` per handle.
+
+    Returns
+    -------
+    U : (n, 3) numpy.ndarray
+        Each vertex moved by the normalized blend of the handles' dual quaternions,
+        every handle on the side of handle 0's.
+    """
+    ### BEGIN SOLUTION
+    V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)
+    Q = dual_quaternions(T)
+    Q[Q[:, 0] @ Q[0, 0] < 0] *= -1  # q̂ and -q̂ are the same motion: put every handle on handle 0's side
+    blends = (W @ Q.reshape(len(Q), 8)).reshape(len(V), 2, 4)
+    T_blend = dual_quaternion_transforms(blends)  # one rigid motion per vertex
+    return np.einsum("iab,ib->ia", T_blend[:, :, :3], V) + T_blend[:, :, 3]
+    ### END SOLUTION
+
+# %% deformlab={"tests": "dqs", "points": 4}
+from scipy.spatial.transform import Rotation as _Rotation
+
+
+def _turn_x(degrees):
+    a = np.radians(degrees)
+    return np.array([[1.0, 0.0, 0.0, 0.0], [0.0, np.cos(a), -np.sin(a), 0.0], [0.0, np.sin(a), np.cos(a), 0.0]])
+
+
+_V = np.array([[0.0, 1.0, 0.0]])
+_U = dqs(_V, np.array([[0.5, 0.5]]), np.stack([_turn_x(0), _turn_x(90)]))
+assert np.shape(_U) == (1, 3), f"one vertex gives U of shape (1, 3), got {np.shape(_U)}"
+assert np.allclose(_U, [[0.0, np.sqrt(0.5), np.sqrt(0.5)]]), (
+    f"half way between 0° and 90° about x, (0, 1, 0) turns by 45° to (0, 0.7071, 0.7071), got {np.round(_U, 4).tolist()}"
+    + (": that is linear blend skinning (the point moved inside the circle)" if np.allclose(_U, [[0, 0.5, 0.5]]) else "")
+)
+_U = dqs(_V, np.array([[0.5, 0.5]]), np.stack([_turn_x(170), _turn_x(-170)]))
+assert np.allclose(_U, [[0.0, -1.0, 0.0]]), (
+    f"+170° and -170° are 20° apart across the half turn: their middle is 180°, (0, -1, 0), got {np.round(_U, 4).tolist()}"
+    + (": flip the dual quaternions on the other side of handle 0's (q_j,0 · q_0,0 < 0) before blending" if np.allclose(_U, _V) else "")
+)
+_V, _F = load_mesh("cylinder")
+_s = (_V[:, 0] - _V[:, 0].min()) / np.ptp(_V[:, 0])
+_W = np.c_[1 - _s, _s]
+_U = dqs(_V, _W, np.stack([_turn_x(0), _turn_x(150)]))
+assert np.shape(_U) == _V.shape, f"U must have the shape of V, {_V.shape}, got {np.shape(_U)}"
+_radius = np.linalg.norm(_U[:, 1:], axis=1) / np.maximum(np.linalg.norm(_V[:, 1:], axis=1), 1e-12)
+_rim = np.linalg.norm(_V[:, 1:], axis=1) > 0.25
+assert np.allclose(_radius[_rim], 1.0, atol=1e-10), (
+    f"a twist about the cylinder's axis moves every vertex rigidly about it: the radius must stay; it changes by up to "
+    f"{np.abs(_radius[_rim] - 1).max():.3f}"
+)
+_R = _Rotation.random(4, random_state=5).as_matrix()
+_T = np.concatenate([_R, rng.normal(size=(4, 3, 1))], axis=2)
+_owner = rng.integers(4, size=len(_V))
+_U = dqs(_V, np.eye(4)[_owner], _T)
+_err = np.abs(_U - (np.einsum("iab,ib->ia", _T[_owner, :, :3], _V) + _T[_owner, :, 3])).max()
+assert _err < 1e-10, f"a vertex with a one-hot weight row must follow its handle exactly; off by {_err:.2e}"
+_W = rng.uniform(size=(len(_V), 4))
+_U = dqs(_V, _W, np.tile(_T[:1], (4, 1, 1)))
+_err = np.abs(_U - (_V @ _T[0, :, :3].T + _T[0, :, 3])).max()
+assert _err < 1e-10, f"the same rigid T for every handle must move the shape rigidly (any weights); off by {_err:.2e}"
+
+# %% [markdown]
+# ## 6 · Experiment: LBS, DQS and ARAP on a twist and on an elbow
+#
+# Three ways to deform the same cylinder with the same two handles:
+#
+# * **LBS** and **DQS** with the weights of section 4;
+# * **ARAP** (stage 03's energy, here libigl's implementation of it, on the surface
+#   triangles), reaching the pose in 12 small steps of 5 iterations each, each
+#   step starting from the last one's result.
+#
+# Two poses: the **twist** of section 4, by 180° (the right end turns about the
+# axis), measured by the radius of the middle ring; and an **elbow**: the left
+# half stays, the right half turns by 90° about the $z$ axis through the middle
+# of the axis, the weights blending over the 0.8 units around the joint (for
+# ARAP, everything outside that zone is a handle moving with its half). The elbow
+# is measured by the change of the tube's volume (in % of the joint zone's volume) and by the
+# distance of the skin from the bent skeleton, relative to the rest radius:
+# its minimum shows a collapse, its maximum a bulge.
+#
+# **Predict first.** Before you run the next cell, write down, for each of the three methods:
+# the middle ring's radius after the 180° twist (×1, ×0.9, ×0.5, ×0?), and whether the
+# elbow loses volume, keeps it, or bulges out.
+
+# %% [markdown] deformlab={"answer": "predict_dqs_experiment", "points": 1}
+# Twist: LBS collapses the middle ring to the axis (×0, since ½(I + R_180°) is
+# zero across the axis); DQS keeps the radius exactly (every vertex moves by a
+# rotation about the axis); ARAP in steps keeps most of it but not all (the
+# surface shortens its twisted edges a little: ×0.94 measured). Elbow: LBS loses
+# volume at the joint (the inner side collapses: skin-to-bone distance ×0.46,
+# volume −13 % of the joint zone); DQS keeps the volume (−0.5 %) but bulges on
+# the outer side (×1.06); surface ARAP keeps the skin's edges, not the volume:
+# the tube folds at the joint (−38 %, bulge ×1.25).
+
+# %%
+def turn(axis, degrees, about=np.zeros(3)):
+    """(3, 4) rigid turn by ``degrees`` about ``axis`` (x, y or z) through the point ``about``."""
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    i, j = {"x": (1, 2), "y": (2, 0), "z": (0, 1)}[axis]
+    R = np.eye(3)
+    R[[i, i, j, j], [i, j, i, j]] = [c, -s, s, c]
+    return np.c_[R, about - R @ about]
+
+
+def arap_in_steps(V, F, handles, targets_at, steps=12, iterations=5):
+    """libigl's ARAP (spokes and rims, stage 03's energy), the pose reached in ``steps`` steps."""
+    data = igl.ARAPData()
+    data.energy = igl.ARAP_ENERGY_TYPE_SPOKES_AND_RIMS
+    data.max_iter = iterations
+    igl.arap_precomputation(V, F, 3, handles.astype(np.int32), data)
+    U = V.copy()
+    for k in range(1, steps + 1):
+        U = igl.arap_solve(targets_at(k / steps), data, U)
+    return U
+
+
+def volume(U, F):
+    """Volume enclosed by a closed, outward-oriented triangle mesh (divergence theorem)."""
+    return np.einsum("ij,ij->i", U[F[:, 0]], np.cross(U[F[:, 1]], U[F[:, 2]])).sum() / 6
+
+
+V, F = load_mesh("cylinder")
+ends = load_handles("cylinder")
+radius = np.linalg.norm(V[:, 1:], axis=1).max()
+
+# the twist: section 4's weights (a smooth step along the axis), 180°
+s = (V[:, 0] - V[:, 0].min()) / np.ptp(V[:, 0])
+W_cylinder = np.c_[1 - (3 * s**2 - 2 * s**3), 3 * s**2 - 2 * s**3]
+middle = np.abs(s - 0.5) < 1e-9
+T = np.stack([turn("x", 0), turn("x", 180)])
+right = ends["right"]
+twist = {
+    "LBS": lbs(V, W_cylinder, T),
+    "DQS": dqs(V, W_cylinder, T),
+    "ARAP, 12 steps": arap_in_steps(
+        V, F, np.r_[ends["left"], right], lambda f: np.r_[V[ends["left"]], V[right] @ turn("x", 180 * f)[:, :3].T]
+    ),
+}
+for name, U in twist.items():
+    print(f"twist 180°, {name:<15} middle ring radius × {np.linalg.norm(U[middle, 1:], axis=1).mean() / radius:.3f}")
+plotting.show_meshes([(U, F) for U in twist.values()], titles=[f"twist 180°: {name}" for name in twist])
+
+# %%
+joint = np.array([2.0, 0.0, 0.0])
+z = np.clip((V[:, 0] - 1.6) / 0.8, 0.0, 1.0)
+W_elbow = np.c_[1 - (3 * z**2 - 2 * z**3), 3 * z**2 - 2 * z**3]
+T = np.stack([turn("z", 0), turn("z", 90, joint)])
+upper, lower = np.flatnonzero(V[:, 0] < 1.6 - 1e-9), np.flatnonzero(V[:, 0] > 2.4 + 1e-9)
+elbow = {
+    "LBS": lbs(V, W_elbow, T),
+    "DQS": dqs(V, W_elbow, T),
+    "ARAP, 12 steps": arap_in_steps(
+        V, F, np.r_[upper, lower],
+        lambda f: np.r_[V[upper], V[lower] @ turn("z", 90 * f, joint)[:, :3].T + turn("z", 90 * f, joint)[:, 3]],
+    ),
+}
+
+
+def distance_to_segment(P, a, b):
+    t = np.clip((P - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0)
+    return np.linalg.norm(P - (a + t[:, None] * (b - a)), axis=1)
+
+
+hand = T[1, :, :3] @ [4.0, 0.0, 0.0] + T[1, :, 3]  # where the far end of the bent axis goes
+skin = (np.linalg.norm(V[:, 1:], axis=1) > radius - 1e-9) & (np.abs(V[:, 0] - 2.0) <= 0.4 + 1e-9)
+zone_volume = np.pi * radius**2 * 0.8
+for name, U in elbow.items():
+    to_bone = np.minimum(distance_to_segment(U, np.zeros(3), joint), distance_to_segment(U, joint, hand))[skin] / radius
+    change = (volume(U, F) - volume(V, F)) / zone_volume
+    print(f"elbow 90°, {name:<15} volume {100 * change:+5.1f} % of the joint zone; "
+          f"skin to bone × {to_bone.min():.2f} (collapse) … × {to_bone.max():.2f} (bulge)")
+plotting.show_meshes([(U, F) for U in elbow.values()], titles=[f"elbow 90°: {name}" for name in elbow])
+
+# %% [markdown]
+# **Question.** DQS moves every vertex rigidly, yet the elbow bulges on its outer
+# side. Why? And why does ARAP, which is the most "physical" of the three on the
+# twist, do worst on the elbow here?
+
+# %% [markdown] deformlab={"answer": "dqs_bulge", "points": 2}
+# A DQS vertex in the joint zone is rotated about the joint by a blended angle
+# between 0° and 90°: each point keeps its distance to the joint, so the outer
+# side of the zone becomes an arc around the joint instead of following the bent
+# bones, and points there end up farther from the skeleton than the rest radius
+# (the bulge); the inner side keeps its distance too, so there is no collapse
+# and the volume stays. LBS moves the same vertices by averaged matrices, which
+# shrink towards the joint: the inner side collapses and the volume drops. ARAP
+# here acts on the surface only: its cells are fans of skin triangles, so it
+# keeps the skin's edge lengths and is free to fold the tube at the joint; no
+# term in its energy sees the volume. ARAP with tetrahedral cells (a volume
+# mesh) penalizes exactly that.
