@@ -9,6 +9,18 @@ from pathlib import Path
 from grader.contract import ASSIGNMENT
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
+#: GiB of address space below which no kernel starts.
+MIN_MEMORY_GIB = 0.5
+
+DESCRIPTION = """\
+DeformLab's course kit: build and release the notebooks, grade submissions in a sandbox.
+
+A first run:
+  deformlab demo                          release, grade a small class, print the scores
+  deformlab grade SUBMITTED --out OUT     grade nbgrader's SUBMITTED/<student>/<assignment>/*.ipynb
+
+'deformlab COMMAND --help' explains each command."""
+
 
 def _positive_int(text: str) -> int:
     try:
@@ -18,6 +30,33 @@ def _positive_int(text: str) -> int:
     if value <= 0:
         raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}")
     return value
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
+    return value
+
+
+def _memory_gib(text: str) -> float:
+    value = _positive_float(text)
+    if value < MIN_MEMORY_GIB:
+        # Below this, python + numpy cannot start and every notebook would be a grader error.
+        raise argparse.ArgumentTypeError(f"a kernel needs at least {MIN_MEMORY_GIB:g} GiB, got {text!r}")
+    return value
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("deformlab")
+    except PackageNotFoundError:  # run from a checkout that was never installed
+        return "unknown (not installed)"
 
 
 def _cmd_build(args) -> int:
@@ -38,6 +77,7 @@ def _cmd_release(args) -> int:
 
 def _cmd_grade(args) -> int:
     from grader.pipeline.run import GradeOptions, grade_class
+    from grader.report.scores import class_summary
 
     options = GradeOptions(
         workers=args.workers,
@@ -47,8 +87,16 @@ def _cmd_grade(args) -> int:
         db_url=args.db,
         seed=args.seed,
         assignment=args.assignment,
+        student=args.student,
     )
-    grade_class(Path(args.submitted), Path(args.out), options)
+    results = grade_class(Path(args.submitted), Path(args.out), options)
+    print()
+    print(class_summary(results))
+    errors = [r for r in results if r["status"] == "grader-error"]
+    if errors:
+        print(f"{len(errors)} notebook(s) could not be graded (grader-error, scored 0): see log.jsonl's reasons; "
+              "a re-run into the same OUT grades only those again", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -71,25 +119,27 @@ def _cmd_demo(args) -> int:
     return run_demo(Path(args.out), workers=args.workers)
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="deformlab", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="deformlab", description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    assignment_help = f"nbgrader assignment name (default: {ASSIGNMENT})"
 
     p = sub.add_parser("build", help="build the instructor notebooks (assignments/source) from notebooks/ and reference/")
-    p.add_argument("--assignment", default=ASSIGNMENT)
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
     p.set_defaults(run=_cmd_build)
 
     p = sub.add_parser("release", help="build, generate the student release and bundle, and check that nothing leaked")
-    p.add_argument("--assignment", default=ASSIGNMENT)
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
     p.add_argument("--no-execute", action="store_true", help="skip the execution checks (faster, for editing prose)")
     p.set_defaults(run=_cmd_release)
 
     p = sub.add_parser("grade", help="grade SUBMITTED/<student_id>/<assignment>/<notebook>.ipynb in a sandbox")
     p.add_argument("submitted", help="folder with one sub-folder per student")
     p.add_argument("--out", required=True, help="where grades.csv, feedback/ and log.jsonl go")
-    p.add_argument("--workers", type=int, default=None, help="parallel notebooks (default: number of cores)")
-    p.add_argument("--timeout", type=float, default=60.0, help="seconds per cell before the kernel is killed")
-    p.add_argument("--memory", type=float, default=4.0, help="GiB of address space per kernel")
+    p.add_argument("--workers", type=_positive_int, default=None, help="parallel notebooks (default: number of cores)")
+    p.add_argument("--timeout", type=_positive_float, default=60.0, help="seconds per cell before the kernel is killed (default: 60)")
+    p.add_argument("--memory", type=_memory_gib, default=4.0, help="GiB of address space per kernel (default: 4)")
     p.add_argument(
         "--max-processes",
         type=_positive_int,
@@ -98,24 +148,30 @@ def main(argv: list[str] | None = None) -> int:
     )
     p.add_argument("--db", default=None, help="SQLAlchemy URL of the nbgrader gradebook (default: the course's SQLite)")
     p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: fresh, recorded in the log)")
-    p.add_argument("--assignment", default=ASSIGNMENT)
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--student", default=None, metavar="ID",
+                   help="grade this student again (e.g. after a late submission); the others' results in OUT are kept as they are")
     p.set_defaults(run=_cmd_grade)
 
     p = sub.add_parser("gradescope", help="build a Gradescope autograder zip")
-    p.add_argument("--out", required=True)
+    p.add_argument("--out", required=True, help="path of the zip to write")
     p.set_defaults(run=_cmd_gradescope)
 
     p = sub.add_parser("check", help="run a notebook's public tests and print a table per function")
-    p.add_argument("notebook")
-    p.add_argument("--timeout", type=float, default=120.0)
+    p.add_argument("notebook", help="the .ipynb file to check")
+    p.add_argument("--timeout", type=_positive_float, default=120.0, help="seconds per cell (default: 120)")
     p.set_defaults(run=_cmd_check)
 
     p = sub.add_parser("demo", help="release, grade a small synthetic class, print the table")
-    p.add_argument("--out", default="demo-out")
-    p.add_argument("--workers", type=int, default=None)
+    p.add_argument("--out", default="demo-out", help="output folder (default: demo-out)")
+    p.add_argument("--workers", type=_positive_int, default=None, help="parallel notebooks (default: number of cores)")
     p.set_defaults(run=_cmd_demo)
 
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
     try:
         return args.run(args)
     except KeyboardInterrupt:

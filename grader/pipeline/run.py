@@ -23,6 +23,7 @@ import nbformat
 from grader.contract import ASSIGNMENT
 from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
+from grader.pipeline.submitted import student_folders
 from grader.pipeline.unit import UnitSpec, grade_unit, sha256_of, zero_result
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
@@ -38,6 +39,7 @@ class GradeOptions:
     assignment: str = ASSIGNMENT
     progress: bool = True
     autograded: Path | None = None  # where executed notebooks go for formgrader; default: the course's autograded/
+    student: str | None = None  # grade only this student again; the others' results are read from OUT as they are
 
 
 def _worker_init() -> None:
@@ -96,7 +98,7 @@ def _known_students(db_url: str) -> list[str]:
 
 def plan_units(submitted: Path, sources: list[Path], seed: int, options: GradeOptions, paths: CoursePaths, roster: list[str]) -> list[UnitSpec]:
     """One ``UnitSpec`` per student × notebook: students from the folder and from the gradebook's roster."""
-    folders = {p.name: p for p in sorted(Path(submitted).iterdir()) if p.is_dir() and not p.name.startswith(".")}
+    folders = student_folders(submitted, options.assignment)
     units = []
     for sid in sorted(set(folders) | set(roster)):
         folder = folders.get(sid)
@@ -184,8 +186,16 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
 
     results: list[dict] = []
     todo = []
+    if options.student is not None and options.student not in {u.student_id for u in units}:
+        raise ValueError(f"--student {options.student!r}: no such student in {submitted} or the gradebook")
     for unit in units:
-        previous = _reusable(out, unit)
+        if options.student is not None and unit.student_id != options.student:
+            previous = record.load_unit(out, unit.student_id, unit.notebook)
+            if previous is None:
+                raise ValueError(f"--student regrades one student of an earlier run into {out}, which has no result for {unit.student_id} {unit.notebook}")
+            results.append(previous | {"reused": True})
+            continue
+        previous = None if options.student is not None else _reusable(out, unit)
         if previous:
             results.append(previous)
         else:
@@ -230,6 +240,7 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
                 workers = 1
     bar.close()
     record.write_grades_csv(out, results)
+    record.compact_log(out)
     _print_summary(results, out)
     return results
 
