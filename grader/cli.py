@@ -77,6 +77,7 @@ def _cmd_release(args) -> int:
 
 def _cmd_grade(args) -> int:
     from grader.pipeline.run import GradeOptions, grade_class
+    from grader.report.class_report import write_class_report
     from grader.report.scores import class_summary
 
     options = GradeOptions(
@@ -92,11 +93,19 @@ def _cmd_grade(args) -> int:
     results = grade_class(Path(args.submitted), Path(args.out), options)
     print()
     print(class_summary(results))
+    print(f"class report: {write_class_report(Path(args.out))}")
     errors = [r for r in results if r["status"] == "grader-error"]
     if errors:
         print(f"{len(errors)} notebook(s) could not be graded (grader-error, scored 0): see log.jsonl's reasons; "
               "a re-run into the same OUT grades only those again", file=sys.stderr)
         return 1
+    return 0
+
+
+def _cmd_report(args) -> int:
+    from grader.report.class_report import write_class_report
+
+    print(f"class report: {write_class_report(Path(args.out), Path(args.to) if args.to else None)}")
     return 0
 
 
@@ -152,6 +161,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--student", default=None, metavar="ID",
                    help="grade this student again (e.g. after a late submission); the others' results in OUT are kept as they are")
     p.set_defaults(run=_cmd_grade)
+
+    p = sub.add_parser("report", help="write the class report (HTML with plots, and CSV) of a grading run")
+    p.add_argument("out", help="the grading run's output folder (grade's --out)")
+    p.add_argument("--to", default=None, help="where the report goes (default: OUT/report)")
+    p.set_defaults(run=_cmd_report)
 
     p = sub.add_parser("gradescope", help="build a Gradescope autograder zip")
     p.add_argument("--out", required=True, help="path of the zip to write")
