@@ -109,6 +109,40 @@ def _cmd_report(args) -> int:
     return 0
 
 
+def _cmd_export(args) -> int:
+    out = Path(args.out)
+    if args.to == "nbgrader-feedback":
+        from grader.exports.nbgrader_feedback import export_feedback
+        from grader.paths import course_paths
+
+        if not args.submitted:
+            raise ValueError("--to nbgrader-feedback needs --submitted (the folder that was graded: its timestamp.txt files go along)")
+        dest = Path(args.file) if args.file else course_paths().course / "feedback"
+        written, _ = export_feedback(out, Path(args.submitted), dest, args.assignment)
+        print(f"wrote {len(written)} feedback pages under {dest}/<student>/{args.assignment}/; "
+              f"return them with: nbgrader release_feedback {args.assignment}")
+        return 0
+    from grader.exports.lms import canvas_csv, moodle_csv, totals
+    from grader.pipeline.record import write_text_atomic
+
+    grades = out / "grades.csv"
+    if not grades.is_file():
+        raise FileNotFoundError(f"{out} is not the output folder of a grading run: it has no grades.csv")
+    rows = totals(grades)
+    name = args.column or args.assignment
+    target = Path(args.file) if args.file else out / f"{args.to}.csv"
+    if args.to == "canvas":
+        text, unmatched = canvas_csv(rows, name, Path(args.roster) if args.roster else None)
+        if unmatched:
+            print(f"warning: {len(unmatched)} student(s) are not in the roster and were left out: {', '.join(unmatched[:10])}",
+                  file=sys.stderr)
+    else:
+        text = moodle_csv(rows, name)
+    write_text_atomic(target, text)
+    print(f"wrote {target} ({len(rows)} students)")
+    return 0
+
+
 def _cmd_gradescope(args) -> int:
     from grader.gradescope import build_autograder_zip
 
@@ -166,6 +200,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("out", help="the grading run's output folder (grade's --out)")
     p.add_argument("--to", default=None, help="where the report goes (default: OUT/report)")
     p.set_defaults(run=_cmd_report)
+
+    p = sub.add_parser("export", help="grades for Canvas or Moodle (CSV), or feedback into nbgrader's feedback/ folder")
+    p.add_argument("out", help="the grading run's output folder (grade's --out)")
+    p.add_argument("--to", required=True, choices=("canvas", "moodle", "nbgrader-feedback"), help="the target system")
+    p.add_argument("--file", default=None,
+                   help="where to write (default: OUT/canvas.csv, OUT/moodle.csv, or the course's feedback/ folder)")
+    p.add_argument("--column", default=None,
+                   help="the LMS's name of the assignment column, e.g. 'Deformation (12345)' for Canvas (default: the assignment)")
+    p.add_argument("--roster", default=None, help="Canvas only: Canvas's gradebook export, to match students by SIS Login ID, SIS User ID or ID")
+    p.add_argument("--submitted", default=None, help="nbgrader-feedback only: the SUBMITTED folder that was graded")
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.set_defaults(run=_cmd_export)
 
     p = sub.add_parser("gradescope", help="build a Gradescope autograder zip")
     p.add_argument("--out", required=True, help="path of the zip to write")
