@@ -90,7 +90,22 @@ def _cmd_grade(args) -> int:
         assignment=args.assignment,
         student=args.student,
     )
+    plugin = due = None
+    if args.due:
+        from grader.late_policy import make_plugin, parse_due
+
+        due, plugin = parse_due(args.due), make_plugin(args.late_policy)
+    elif args.late_policy != "none":
+        raise ValueError("--late-policy needs --due (the assignment's due date)")
     results = grade_class(Path(args.submitted), Path(args.out), options)
+    if due is not None:
+        from grader.late_policy import apply_late_policy
+        from grader.paths import course_paths
+
+        late = apply_late_policy(Path(args.out), Path(args.submitted), args.assignment, due, plugin,
+                                 args.db or course_paths().gradebook_url)
+        print(f"late: {len(late)} student(s) submitted after {due:%Y-%m-%d %H:%M} UTC"
+              + (f"; penalties (points): " + ", ".join(f"{s} {p:g}" for s, (_, p) in sorted(late.items())[:20]) if late else ""))
     print()
     print(class_summary(results))
     print(f"class report: {write_class_report(Path(args.out))}")
@@ -192,6 +207,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--db", default=None, help="SQLAlchemy URL of the nbgrader gradebook (default: the course's SQLite)")
     p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: fresh, recorded in the log)")
     p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--due", default=None,
+                   help="due date, e.g. '2026-11-20 23:59:00 Europe/Paris': lateness is read from nbgrader's timestamp.txt")
+    p.add_argument("--late-policy", default="none",
+                   help="penalty per late notebook, as nbgrader's late-submission plugins: none (default), zero, "
+                        "per-day:FRACTION (e.g. per-day:0.1), or module:Class of an nbgrader plugin")
     p.add_argument("--student", default=None, metavar="ID",
                    help="grade this student again (e.g. after a late submission); the others' results in OUT are kept as they are")
     p.set_defaults(run=_cmd_grade)

@@ -138,7 +138,7 @@ def _case_message(case) -> str:
     return case.error or "; ".join(f"{v.name}: {v.detail}" for v in case.verdicts if not v.passed)
 
 
-def feedback_html(spec, results: list, notes: list[str], late: str | None = None) -> str:
+def feedback_html(spec, results: list, notes: list[str]) -> str:
     """The feedback page of one student × notebook.
 
     Parameters
@@ -149,8 +149,11 @@ def feedback_html(spec, results: list, notes: list[str], late: str | None = None
         page still shows the notebook's maximum, read from the source notebook.
     notes : list of str
         Repairs, cell errors and incidents, shown above the table.
-    late : str, optional
-        The late-policy line (how late, the penalty), when one applies.
+
+    Notes
+    -----
+    The page keeps a ``<!-- late -->`` mark below the score, where
+    ``grader.late_policy`` puts the late line once a due date is applied.
     """
     source = nbformat.read(spec.source, as_version=4)
     max_score = sum(cell.points for cell in graded_cells(source))
@@ -180,7 +183,6 @@ def feedback_html(spec, results: list, notes: list[str], late: str | None = None
         bonus=is_bonus(spec.notebook),
         manual_points=sum(points for _, points in manual),
         manual_cells=[gid for gid, _ in manual],
-        late=late,
         notes=notes,
         functions=functions,
         pictures=pictures,

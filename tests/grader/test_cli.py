@@ -61,8 +61,25 @@ def test_grade_exits_nonzero_when_a_notebook_could_not_be_graded(tmp_path, capsy
     import grader.pipeline.run as run
 
     def fake(submitted, out, options):
-        return [{"student_id": "ada", "notebook": "01_shape_matching", "score": 0, "max_score": 10, "status": "grader-error"}]
+        from grader.pipeline.record import write_grades_csv
+
+        results = [{"student_id": "ada", "assignment": "deformation", "notebook": "01_shape_matching", "score": 0, "max_score": 10,
+                    "status": "grader-error", "tests": []}]
+        out.mkdir()
+        write_grades_csv(out, results)
+        return results
 
     monkeypatch.setattr(run, "grade_class", fake)
     assert main(["grade", str(tmp_path), "--out", str(tmp_path / "o")]) == 1
     assert "1 notebook(s) could not be graded" in capsys.readouterr().err
+
+
+def test_a_late_policy_without_a_due_date_is_a_usage_error(tmp_path, capsys):
+    (tmp_path / "ada" / "deformation").mkdir(parents=True)
+    assert main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--late-policy", "zero"]) == 2
+    assert "--late-policy needs --due" in capsys.readouterr().err
+
+
+def test_an_unreadable_due_date_is_a_usage_error(tmp_path, capsys):
+    assert main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--due", "soon"]) == 2
+    assert "--due 'soon' is not a date" in capsys.readouterr().err
