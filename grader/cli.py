@@ -161,7 +161,11 @@ def _cmd_export(args) -> int:
 def _cmd_gradescope(args) -> int:
     from grader.gradescope import build_autograder_zip
 
-    print(f"wrote {build_autograder_zip(Path(args.out))}")
+    import secrets
+
+    seed = secrets.randbits(32) if args.seed is None else args.seed
+    path = build_autograder_zip(Path(args.out), seed=seed, assignment=args.assignment, allow_unsandboxed=args.allow_unsandboxed)
+    print(f"wrote {path}; hidden-input seed {seed} (pass --seed {seed} to rebuild it without changing any student's inputs)")
     return 0
 
 
@@ -235,6 +239,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("gradescope", help="build a Gradescope autograder zip")
     p.add_argument("--out", required=True, help="path of the zip to write")
+    p.add_argument("--seed", type=int, default=None, help="the assignment's hidden-input seed (default: a fresh one, printed)")
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--allow-unsandboxed", action="store_true",
+                   help="grade even where bubblewrap cannot start (students' code then runs unconfined; default: refuse)")
     p.set_defaults(run=_cmd_gradescope)
 
     p = sub.add_parser("check", help="run a notebook's public tests and print a table per function")
