@@ -49,7 +49,9 @@ cd "$SOURCE"
 [ -x .venv/bin/python ] || "$PYTHON" -m venv .venv
 .venv/bin/pip install -q .
 # The installed starter package looks for data/ beside itself: a non-editable install needs its copy.
-cp -r data "$(.venv/bin/python -c 'import pathlib, starter; print(pathlib.Path(starter.__file__).resolve().parent.parent)')/data"
+# (Asked from /, where `import starter` cannot mean this source tree's folder.)
+INSTALLED="$(cd / && "$SOURCE/.venv/bin/python" -c 'import pathlib, starter; print(pathlib.Path(starter.__file__).resolve().parent.parent)')"
+rm -rf "$INSTALLED/data" && cp -r data "$INSTALLED/data"
 cd /
 DEFORMLAB_ROOT="$SOURCE" "$SOURCE/.venv/bin/deformlab" build
 """
