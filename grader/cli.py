@@ -77,7 +77,8 @@ def _cmd_release(args) -> int:
 
 def _cmd_grade(args) -> int:
     from grader.pipeline.run import GradeOptions, grade_class
-    from grader.report.class_report import write_class_report
+    from grader.paths import course_paths
+    from grader.report.class_report import collusion_of_run, write_class_report
     from grader.report.scores import class_summary
 
     options = GradeOptions(
@@ -100,7 +101,6 @@ def _cmd_grade(args) -> int:
     results = grade_class(Path(args.submitted), Path(args.out), options)
     if due is not None:
         from grader.late_policy import apply_late_policy
-        from grader.paths import course_paths
 
         late = apply_late_policy(Path(args.out), Path(args.submitted), args.assignment, due, plugin,
                                  args.db or course_paths().gradebook_url)
@@ -108,7 +108,8 @@ def _cmd_grade(args) -> int:
               + (f"; penalties (points): " + ", ".join(f"{s} {p:g}" for s, (_, p) in sorted(late.items())[:20]) if late else ""))
     print()
     print(class_summary(results))
-    print(f"class report: {write_class_report(Path(args.out))}")
+    pairs = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
+    print(f"class report: {write_class_report(Path(args.out), collusion=pairs)} ({len(pairs)} pair(s) with collusion evidence)")
     errors = [r for r in results if r["status"] == "grader-error"]
     if errors:
         print(f"{len(errors)} notebook(s) could not be graded (grader-error, scored 0): see log.jsonl's reasons; "
@@ -118,9 +119,15 @@ def _cmd_grade(args) -> int:
 
 
 def _cmd_report(args) -> int:
-    from grader.report.class_report import write_class_report
+    from grader.paths import course_paths
+    from grader.report.class_report import collusion_of_run, write_class_report
 
-    print(f"class report: {write_class_report(Path(args.out), Path(args.to) if args.to else None)}")
+    pairs = []
+    if args.submitted:
+        pairs = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
+    page = write_class_report(Path(args.out), Path(args.to) if args.to else None, collusion=pairs)
+    print(f"class report: {page}" + (f" ({len(pairs)} pair(s) with collusion evidence)" if args.submitted else
+                                     " (no collusion evidence: pass --submitted to compare the submissions)"))
     return 0
 
 
@@ -223,6 +230,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("report", help="write the class report (HTML with plots, and CSV) of a grading run")
     p.add_argument("out", help="the grading run's output folder (grade's --out)")
     p.add_argument("--to", default=None, help="where the report goes (default: OUT/report)")
+    p.add_argument("--submitted", default=None, help="the SUBMITTED folder that was graded: adds collusion evidence")
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
     p.set_defaults(run=_cmd_report)
 
     p = sub.add_parser("export", help="grades for Canvas or Moodle (CSV), or feedback into nbgrader's feedback/ folder")

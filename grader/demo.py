@@ -84,7 +84,7 @@ def run_demo(out: Path, workers: int | None = None) -> int:
     """
     from grader.build.release import release
     from grader.pipeline.run import GradeOptions, grade_class
-    from grader.report.class_report import write_class_report
+    from grader.report.class_report import collusion_of_run, write_class_report
 
     # nbgrader's gradebook runs this environment's `alembic` script by name
     os.environ["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"
@@ -114,7 +114,8 @@ def run_demo(out: Path, workers: int | None = None) -> int:
     print("\n== scores (autograded points; short answers are graded by hand in formgrader) ==")
     print(score_table(results, students, [p.stem for p in sources]))
     print("\n== reports ==")
-    print(f"  class report: {write_class_report(out)}")
+    pairs = collusion_of_run(out, out / "submitted", ASSIGNMENT, sources)
+    print(f"  class report: {write_class_report(out, collusion=pairs)}")
     print(f"  grades:    {out / 'grades.csv'}")
     print(f"  feedback:  {out / 'feedback'}/<student>/<notebook>.html")
     print(f"  log:       {out / 'log.jsonl'}")

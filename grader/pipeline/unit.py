@@ -24,6 +24,7 @@ from grader.pipeline.execute import ExecuteOptions, execute
 from grader.pipeline.feedback import feedback_html
 from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, verify
+from grader.report.digest import output_digest
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
 
@@ -174,8 +175,10 @@ def grade_unit(spec: UnitSpec) -> dict:
                             "error": c.error,
                             "seconds": c.seconds,
                             "failed": [f"{v.name}: {v.detail}" for v in c.verdicts if not v.passed],
+                            # Wrong outputs only: identical ones across students are collusion evidence (grader/report/collusion.py).
+                            "digest": _wrong_output_digest(c, collected, k),
                         }
-                        for c in result.cases
+                        for k, c in enumerate(result.cases)
                     ],
                 }
             )
@@ -199,6 +202,12 @@ def grade_unit(spec: UnitSpec) -> dict:
         return _grader_error(spec, source, exc, started)
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _wrong_output_digest(case, collected, k: int) -> str | None:
+    if case.passed or collected is None or k >= len(collected.cases) or collected.cases[k].error is not None:
+        return None
+    return output_digest(collected.cases[k].value) or None
 
 
 def _grader_error(spec: UnitSpec, source: nbformat.NotebookNode, exc: BaseException, started: float) -> dict:

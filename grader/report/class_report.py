@@ -203,6 +203,13 @@ HEADERS = {
 }
 
 
+def collusion_of_run(out: Path, submitted: Path, assignment: str, sources: list[Path]) -> list[dict]:
+    """Ranked collusion pairs of the run in ``out`` (``grader.report.collusion``)."""
+    from grader.report.collusion import class_collusion
+
+    return class_collusion(load_results(out), submitted, sources, assignment)
+
+
 def write_class_report(out: Path, target: Path | None = None, collusion: list | None = None) -> Path:
     """Write ``report/index.html`` and one CSV per table; returns the page's path.
 
