@@ -34,9 +34,8 @@ def test_a_copy_with_renamed_variables_ranks_first_among_the_corpus(source_noteb
     assert codes["copycat"] != codes["no_sign_correction"]
     pairs = rank_pairs(codes, shared, notebook=NOTEBOOK)
     assert {pairs[0]["a"], pairs[0]["b"]} == {"copycat", "no_sign_correction"}
-    others = [p["similarity"] for p in pairs[1:]]
     report_summary("collusion", f"{NOTEBOOK}: {len(codes)} submissions; renamed copy similarity {pairs[0]['similarity']:.3f}; "
-                   f"next pair {max(others, default=0):.3f} (threshold {SIMILARITY_THRESHOLD})")
+                   f"{len(pairs) - 1} other pair(s) above the threshold {SIMILARITY_THRESHOLD}")
 
 
 def test_identical_wrong_outputs_on_a_hidden_case_are_evidence(graded_class):
