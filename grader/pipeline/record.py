@@ -78,6 +78,8 @@ def append_log(out: Path, result: dict) -> None:
 def compact_log(out: Path) -> None:
     """Keep one ``log.jsonl`` record per student × notebook: the last one (a re-run appends again)."""
     path = Path(out) / "log.jsonl"
+    if not path.is_file():
+        return
     last: dict[tuple, str] = {}
     for line in path.read_text(encoding="utf-8").splitlines():
         try:
