@@ -20,6 +20,7 @@ import html
 import importlib
 import io
 import math
+import re
 from datetime import datetime
 from pathlib import Path
 
@@ -32,6 +33,7 @@ from grader.pipeline import record
 MAX_TIMESTAMP_BYTES = 256
 #: Where the feedback template leaves room for the late line.
 LATE_MARK = "<!-- late -->"
+_LATE_LINE = re.compile(re.escape(LATE_MARK) + r'(<p class="late">.*?</p>)?')
 
 
 class PerDayPenalty(LateSubmissionPlugin):
@@ -136,8 +138,9 @@ def apply_late_policy(out: Path, submitted: Path, assignment: str, due: datetime
             page = out / "feedback" / record.safe_name(sid) / f"{row['notebook']}.html"
             if page.is_file():
                 text = page.read_text(encoding="utf-8")
-                record.write_text_atomic(page, text.replace(
-                    LATE_MARK, f'<p class="late"><b>Late:</b> {html.escape(late_line(seconds, penalty or 0.0))}</p>', 1))
+                line = f'{LATE_MARK}<p class="late"><b>Late:</b> {html.escape(late_line(seconds, penalty or 0.0))}</p>'
+                # The mark stays, followed by the current line: a re-run with another due date replaces it.
+                record.write_text_atomic(page, _LATE_LINE.sub(lambda _: line, text, count=1))
         row["seconds_late"] = f"{seconds:g}"
         row["late_penalty"] = f"{penalty or 0:g}"
     buf = io.StringIO()

@@ -65,6 +65,8 @@ def test_late_notebooks_lose_points_in_grades_csv_feedback_and_gradebook(graded_
     for sid, text in stamps.items():
         (submitted / sid / "deformation" / "timestamp.txt").write_text(text)
     try:
+        # First with a due date a day later (a TA's mistake), then the right one: the page shows only the last.
+        apply_late_policy(copy, submitted, "deformation", parse_due("2026-11-21 23:59:00 UTC"), make_plugin("per-day:0.25"), None)
         late = apply_late_policy(copy, submitted, "deformation", parse_due(DUE), make_plugin("per-day:0.25"), f"sqlite:///{db}")
     finally:
         for sid in stamps:
@@ -77,7 +79,7 @@ def test_late_notebooks_lose_points_in_grades_csv_feedback_and_gradebook(graded_
     assert float(rows[("ada", "01_shape_matching")]["late_penalty"]) == 0
     assert set(late) == {"bob"}
     page = (copy / "feedback" / "bob" / "01_shape_matching.html").read_text()
-    assert "submitted 1 d 11 h 1 min after the due date" in page
+    assert "submitted 1 d 11 h 1 min after the due date" in page and page.count('class="late"') == 1
     assert "Late:" not in (copy / "feedback" / "ada" / "01_shape_matching.html").read_text()
     with Gradebook(f"sqlite:///{db}") as gb:
         nb = gb.find_submission_notebook("01_shape_matching", "deformation", "bob")
