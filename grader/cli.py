@@ -9,6 +9,18 @@ from pathlib import Path
 from grader.contract import ASSIGNMENT
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
+#: GiB of address space below which no kernel starts.
+MIN_MEMORY_GIB = 0.5
+
+DESCRIPTION = """\
+DeformLab's course kit: build and release the notebooks, grade submissions in a sandbox.
+
+A first run:
+  deformlab demo                          release, grade a small class, print the scores
+  deformlab grade SUBMITTED --out OUT     grade nbgrader's SUBMITTED/<student>/<assignment>/*.ipynb
+
+'deformlab COMMAND --help' explains each command."""
+
 
 def _positive_int(text: str) -> int:
     try:
@@ -18,6 +30,33 @@ def _positive_int(text: str) -> int:
     if value <= 0:
         raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}")
     return value
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
+    return value
+
+
+def _memory_gib(text: str) -> float:
+    value = _positive_float(text)
+    if value < MIN_MEMORY_GIB:
+        # Below this, python + numpy cannot start and every notebook would be a grader error.
+        raise argparse.ArgumentTypeError(f"a kernel needs at least {MIN_MEMORY_GIB:g} GiB, got {text!r}")
+    return value
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("deformlab")
+    except PackageNotFoundError:  # run from a checkout that was never installed
+        return "unknown (not installed)"
 
 
 def _cmd_build(args) -> int:
@@ -38,6 +77,9 @@ def _cmd_release(args) -> int:
 
 def _cmd_grade(args) -> int:
     from grader.pipeline.run import GradeOptions, grade_class
+    from grader.paths import course_paths
+    from grader.report.class_report import collusion_of_run, write_class_report
+    from grader.report.scores import class_summary
 
     options = GradeOptions(
         workers=args.workers,
@@ -49,15 +91,90 @@ def _cmd_grade(args) -> int:
         assignment=args.assignment,
         wall=args.wall,
         disk_bytes=args.disk * 2**20,
+        student=args.student,
     )
-    grade_class(Path(args.submitted), Path(args.out), options)
+    plugin = due = None
+    if args.due:
+        from grader.late_policy import make_plugin, parse_due
+
+        due, plugin = parse_due(args.due), make_plugin(args.late_policy)
+    elif args.late_policy != "none":
+        raise ValueError("--late-policy needs --due (the assignment's due date)")
+    results = grade_class(Path(args.submitted), Path(args.out), options)
+    if due is not None:
+        from grader.late_policy import apply_late_policy
+
+        late = apply_late_policy(Path(args.out), Path(args.submitted), args.assignment, due, plugin,
+                                 args.db or course_paths().gradebook_url)
+        print(f"late: {len(late)} student(s) submitted after {due:%Y-%m-%d %H:%M} UTC"
+              + (f"; penalties (points): " + ", ".join(f"{s} {p:g}" for s, (_, p) in sorted(late.items())[:20]) if late else ""))
+    print()
+    print(class_summary(results))
+    pairs = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
+    print(f"class report: {write_class_report(Path(args.out), collusion=pairs)} ({len(pairs)} pair(s) with collusion evidence)")
+    errors = [r for r in results if r["status"] == "grader-error"]
+    if errors:
+        print(f"{len(errors)} notebook(s) could not be graded (grader-error, scored 0): see log.jsonl's reasons; "
+              "a re-run into the same OUT grades only those again", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _cmd_report(args) -> int:
+    from grader.paths import course_paths
+    from grader.report.class_report import collusion_of_run, write_class_report
+
+    pairs = []
+    if args.submitted:
+        pairs = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
+    page = write_class_report(Path(args.out), Path(args.to) if args.to else None, collusion=pairs)
+    print(f"class report: {page}" + (f" ({len(pairs)} pair(s) with collusion evidence)" if args.submitted else
+                                     " (no collusion evidence: pass --submitted to compare the submissions)"))
+    return 0
+
+
+def _cmd_export(args) -> int:
+    out = Path(args.out)
+    if args.to == "nbgrader-feedback":
+        from grader.exports.nbgrader_feedback import export_feedback
+        from grader.paths import course_paths
+
+        if not args.submitted:
+            raise ValueError("--to nbgrader-feedback needs --submitted (the folder that was graded: its timestamp.txt files go along)")
+        dest = Path(args.file) if args.file else course_paths().course / "feedback"
+        written, _ = export_feedback(out, Path(args.submitted), dest, args.assignment)
+        print(f"wrote {len(written)} feedback pages under {dest}/<student>/{args.assignment}/; "
+              f"return them with: nbgrader release_feedback {args.assignment}")
+        return 0
+    from grader.exports.lms import canvas_csv, moodle_csv, totals
+    from grader.pipeline.record import write_text_atomic
+
+    grades = out / "grades.csv"
+    if not grades.is_file():
+        raise FileNotFoundError(f"{out} is not the output folder of a grading run: it has no grades.csv")
+    rows = totals(grades)
+    name = args.column or args.assignment
+    target = Path(args.file) if args.file else out / f"{args.to}.csv"
+    if args.to == "canvas":
+        text, unmatched = canvas_csv(rows, name, Path(args.roster) if args.roster else None)
+        if unmatched:
+            print(f"warning: {len(unmatched)} student(s) are not in the roster and were left out: {', '.join(unmatched[:10])}",
+                  file=sys.stderr)
+    else:
+        text = moodle_csv(rows, name)
+    write_text_atomic(target, text)
+    print(f"wrote {target} ({len(rows)} students)")
     return 0
 
 
 def _cmd_gradescope(args) -> int:
     from grader.gradescope import build_autograder_zip
 
-    print(f"wrote {build_autograder_zip(Path(args.out))}")
+    import secrets
+
+    seed = secrets.randbits(32) if args.seed is None else args.seed
+    path = build_autograder_zip(Path(args.out), seed=seed, assignment=args.assignment, allow_unsandboxed=args.allow_unsandboxed)
+    print(f"wrote {path}; hidden-input seed {seed} (pass --seed {seed} to rebuild it without changing any student's inputs)")
     return 0
 
 
@@ -73,28 +190,32 @@ def _cmd_demo(args) -> int:
     return run_demo(Path(args.out), workers=args.workers)
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="deformlab", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="deformlab", description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    assignment_help = f"nbgrader assignment name (default: {ASSIGNMENT})"
 
     p = sub.add_parser("build", help="build the instructor notebooks (assignments/source) from notebooks/ and reference/")
-    p.add_argument("--assignment", default=ASSIGNMENT)
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
     p.set_defaults(run=_cmd_build)
 
     p = sub.add_parser("release", help="build, generate the student release and bundle, and check that nothing leaked")
-    p.add_argument("--assignment", default=ASSIGNMENT)
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
     p.add_argument("--no-execute", action="store_true", help="skip the execution checks (faster, for editing prose)")
     p.set_defaults(run=_cmd_release)
 
     p = sub.add_parser("grade", help="grade SUBMITTED/<student_id>/<assignment>/<notebook>.ipynb in a sandbox")
     p.add_argument("submitted", help="folder with one sub-folder per student")
     p.add_argument("--out", required=True, help="where grades.csv, feedback/ and log.jsonl go")
-    p.add_argument("--workers", type=int, default=None, help="parallel notebooks (default: number of cores)")
-    p.add_argument("--timeout", type=float, default=60.0, help="seconds per cell before the kernel is killed")
-    p.add_argument("--memory", type=float, default=4.0, help="GiB of address space per kernel")
-    p.add_argument("--wall", type=float, default=900.0, help="seconds a whole notebook may run, replays after restarts included")
+    p.add_argument("--workers", type=_positive_int, default=None, help="parallel notebooks (default: number of cores)")
+    p.add_argument("--timeout", type=_positive_float, default=60.0, help="seconds per cell before the kernel is killed (default: 60)")
+    p.add_argument("--memory", type=_memory_gib, default=4.0, help="GiB of address space per kernel (default: 4)")
     p.add_argument(
-        "--disk", type=_positive_int, default=1024, help="MiB each student's working folder may hold (a tmpfs, where the grader runs as root)"
+        "--wall", type=_positive_float, default=900.0, help="seconds a whole notebook may run, replays after restarts included (default: 900)"
+    )
+    p.add_argument(
+        "--disk", type=_positive_int, default=1024, help="MiB each student's working folder may hold: a tmpfs, where the grader runs as root (default: 1024)"
     )
     p.add_argument(
         "--max-processes",
@@ -104,24 +225,58 @@ def main(argv: list[str] | None = None) -> int:
     )
     p.add_argument("--db", default=None, help="SQLAlchemy URL of the nbgrader gradebook (default: the course's SQLite)")
     p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: fresh, recorded in the log)")
-    p.add_argument("--assignment", default=ASSIGNMENT)
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--due", default=None,
+                   help="due date, e.g. '2026-11-20 23:59:00 Europe/Paris': lateness is read from nbgrader's timestamp.txt")
+    p.add_argument("--late-policy", default="none",
+                   help="penalty per late notebook, as nbgrader's late-submission plugins: none (default), zero, "
+                        "per-day:FRACTION (e.g. per-day:0.1), or module:Class of an nbgrader plugin")
+    p.add_argument("--student", default=None, metavar="ID",
+                   help="grade this student again (e.g. after a late submission); the others' results in OUT are kept as they are")
     p.set_defaults(run=_cmd_grade)
 
+    p = sub.add_parser("report", help="write the class report (HTML with plots, and CSV) of a grading run")
+    p.add_argument("out", help="the grading run's output folder (grade's --out)")
+    p.add_argument("--to", default=None, help="where the report goes (default: OUT/report)")
+    p.add_argument("--submitted", default=None, help="the SUBMITTED folder that was graded: adds collusion evidence")
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.set_defaults(run=_cmd_report)
+
+    p = sub.add_parser("export", help="grades for Canvas or Moodle (CSV), or feedback into nbgrader's feedback/ folder")
+    p.add_argument("out", help="the grading run's output folder (grade's --out)")
+    p.add_argument("--to", required=True, choices=("canvas", "moodle", "nbgrader-feedback"), help="the target system")
+    p.add_argument("--file", default=None,
+                   help="where to write (default: OUT/canvas.csv, OUT/moodle.csv, or the course's feedback/ folder)")
+    p.add_argument("--column", default=None,
+                   help="the LMS's name of the assignment column, e.g. 'Deformation (12345)' for Canvas (default: the assignment)")
+    p.add_argument("--roster", default=None, help="Canvas only: Canvas's gradebook export, to match students by SIS Login ID, SIS User ID or ID")
+    p.add_argument("--submitted", default=None, help="nbgrader-feedback only: the SUBMITTED folder that was graded")
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.set_defaults(run=_cmd_export)
+
     p = sub.add_parser("gradescope", help="build a Gradescope autograder zip")
-    p.add_argument("--out", required=True)
+    p.add_argument("--out", required=True, help="path of the zip to write")
+    p.add_argument("--seed", type=int, default=None, help="the assignment's hidden-input seed (default: a fresh one, printed)")
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--allow-unsandboxed", action="store_true",
+                   help="grade even where bubblewrap cannot start (students' code then runs unconfined; default: refuse)")
     p.set_defaults(run=_cmd_gradescope)
 
     p = sub.add_parser("check", help="run a notebook's public tests and print a table per function")
-    p.add_argument("notebook")
-    p.add_argument("--timeout", type=float, default=120.0)
+    p.add_argument("notebook", help="the .ipynb file to check")
+    p.add_argument("--timeout", type=_positive_float, default=120.0, help="seconds per cell (default: 120)")
     p.set_defaults(run=_cmd_check)
 
     p = sub.add_parser("demo", help="release, grade a small synthetic class, print the table")
-    p.add_argument("--out", default="demo-out")
-    p.add_argument("--workers", type=int, default=None)
+    p.add_argument("--out", default="demo-out", help="output folder (default: demo-out)")
+    p.add_argument("--workers", type=_positive_int, default=None, help="parallel notebooks (default: number of cores)")
     p.set_defaults(run=_cmd_demo)
 
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
     try:
         return args.run(args)
     except KeyboardInterrupt:

@@ -19,9 +19,10 @@ from pathlib import Path
 
 import nbformat
 
-from grader.contract import ASSIGNMENT, is_bonus
+from grader.contract import ASSIGNMENT
 from grader.corpus import CorpusEntry, build_submission, load_entry, student_notebook
 from grader.paths import course_paths
+from grader.report.scores import score_table
 
 #: Corpus entries of the demo class: three bugs in three stages and one cheat.
 DEMO_ENTRIES = (
@@ -66,25 +67,6 @@ def build_class(submitted: Path, sources: list[Path], released: Path, entries: l
     return students
 
 
-def score_table(results: list[dict], students: list[str], notebooks: list[str]) -> str:
-    """Students × notebooks scores (``score/max``), each student's regular total and bonus, as aligned text."""
-    by_unit = {(r["student_id"], r["notebook"]): r for r in results}
-    width = max(len(s) for s in students)
-    heads = [nb.split("_", 1)[0] + ("+" if is_bonus(nb) else "") for nb in notebooks]
-    lines = [f"{'student':<{width}}  " + "  ".join(f"{h:>9}" for h in heads) + f"  {'total':>11}  {'bonus':>9}"]
-    for sid in students:
-        units = [by_unit[(sid, nb)] for nb in notebooks]
-        cells = [f"{u['score']:g}/{u['max_score']:g}" for u in units]
-        regular = [u for u in units if not is_bonus(u["notebook"])]
-        extra = [u for u in units if is_bonus(u["notebook"])]
-        total = f"{sum(u['score'] for u in regular):g}/{sum(u['max_score'] for u in regular):g}"
-        bonus = f"+{sum(u['score'] for u in extra):g}" if extra else "-"
-        lines.append(f"{sid:<{width}}  " + "  ".join(f"{c:>9}" for c in cells) + f"  {total:>11}  {bonus:>9}")
-    if any(is_bonus(nb) for nb in notebooks):
-        lines.append("(+ marks a bonus notebook: its points are extra credit, outside the total)")
-    return "\n".join(lines)
-
-
 def run_demo(out: Path, workers: int | None = None) -> int:
     """Release, grade the demo class into ``out``, print the score table and where the reports are.
 
@@ -102,6 +84,7 @@ def run_demo(out: Path, workers: int | None = None) -> int:
     """
     from grader.build.release import release
     from grader.pipeline.run import GradeOptions, grade_class
+    from grader.report.class_report import collusion_of_run, write_class_report
 
     # nbgrader's gradebook runs this environment's `alembic` script by name
     os.environ["PATH"] = f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"
@@ -131,6 +114,8 @@ def run_demo(out: Path, workers: int | None = None) -> int:
     print("\n== scores (autograded points; short answers are graded by hand in formgrader) ==")
     print(score_table(results, students, [p.stem for p in sources]))
     print("\n== reports ==")
+    pairs = collusion_of_run(out, out / "submitted", ASSIGNMENT, sources)
+    print(f"  class report: {write_class_report(out, collusion=pairs)}")
     print(f"  grades:    {out / 'grades.csv'}")
     print(f"  feedback:  {out / 'feedback'}/<student>/<notebook>.html")
     print(f"  log:       {out / 'log.jsonl'}")

@@ -6,8 +6,10 @@ so it imports only the standard library, nbformat and nbclient.
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
+import textwrap
 from pathlib import Path
 
 
@@ -48,18 +50,32 @@ def check_notebook(path: Path, timeout: float = 120.0) -> int:
         elif error is None:
             rows.append((gid[5:], "pass", ""))
         else:
-            rows.append((gid[5:], "FAIL", f"{error.get('ename')}: {str(error.get('evalue', '')).splitlines()[0] if error.get('evalue') else ''}"))
+            rows.append((gid[5:], "FAIL", f"{error.get('ename')}: {error.get('evalue') or ''}"))
     width = max([len(r[0]) for r in rows] + [8])
     print(f"{'function':<{width}}  result   message")
+    indent = " " * (width + 11)
     for name, status, message in rows:
-        print(f"{name:<{width}}  {status:<7}  {message[:160]}")
+        # The whole message: the public tests' hints span several lines.
+        lines = [w for line in message.splitlines() for w in (textwrap.wrap(line, 100, subsequent_indent="  ") or [""])]
+        print(f"{name:<{width}}  {status:<7}  {lines[0] if lines else ''}".rstrip())
+        for line in lines[1:]:
+            print(f"{indent}{line}".rstrip())
     failed = sum(status != "pass" for _, status, _ in rows)
     print(f"{len(rows) - failed} passed, {failed} failed")
     return 1 if failed or not rows else 0
 
 
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python check_notebook.py",
+        description="Run a notebook top to bottom and print, per function, whether its public tests pass. "
+        "Passing them does not guarantee full marks: grading uses other, hidden inputs.",
+    )
+    parser.add_argument("notebook", help="the notebook to check, e.g. 03_arap.ipynb")
+    parser.add_argument("--timeout", type=float, default=120.0, help="seconds per cell (default: 120)")
+    args = parser.parse_args(argv)
+    return check_notebook(Path(args.notebook), timeout=args.timeout)
+
+
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
-        print("usage: python check_notebook.py NOTEBOOK.ipynb", file=sys.stderr)
-        sys.exit(2)
-    sys.exit(check_notebook(Path(sys.argv[1])))
+    sys.exit(main())

@@ -22,6 +22,9 @@ import gc
 import inspect
 import json
 import os
+import contextlib
+import functools
+import io
 import re
 import shutil
 import tempfile
@@ -105,7 +108,9 @@ class ReleaseError(RuntimeError):
 @dataclass
 class ReleaseReport:
     problems: list[str] = field(default_factory=list)
-    points: dict[str, float] = field(default_factory=dict)
+    points: dict[str, float] = field(default_factory=dict)  # autograded points per notebook, as grades.csv counts them
+    manual_points: dict[str, float] = field(default_factory=dict)  # points of the answers graded by hand in formgrader
+    executed: bool = False  # whether the execution and grading checks ran
     timings: dict[str, float] = field(default_factory=dict)
 
     @property
@@ -281,12 +286,14 @@ def check_grades(sources: list[Path], submission_dir: Path, expect_full: bool, r
         for src in sources:
             shutil.copy(submission_dir / src.name, target / src.name)
         started = time.monotonic()
-        results = grade_class(
-            submitted,
-            Path(tmp) / "out",
-            GradeOptions(db_url=f"sqlite:///{tmp}/gradebook.db", progress=False, autograded=Path(tmp) / "autograded"),
-            paths,
-        )
+        # grade_class prints a summary naming this scratch folder, which is deleted right after: keep it quiet.
+        with contextlib.redirect_stdout(io.StringIO()):
+            results = grade_class(
+                submitted,
+                Path(tmp) / "out",
+                GradeOptions(db_url=f"sqlite:///{tmp}/gradebook.db", progress=False, autograded=Path(tmp) / "autograded"),
+                paths,
+            )
         report.timings[f"grade {label}"] = time.monotonic() - started
     for r in results:
         for t in r["tests"]:
@@ -299,7 +306,7 @@ def check_grades(sources: list[Path], submission_dir: Path, expect_full: bool, r
 def check_points(sources: list[Path], report: ReleaseReport) -> None:
     for path in sources:
         nb = nbformat.read(path, as_version=4)
-        total = 0.0
+        total = manual = 0.0
         for cell in nb.cells:
             meta = cell.metadata.get("nbgrader") or {}
             if meta.get("grade"):
@@ -308,8 +315,12 @@ def check_points(sources: list[Path], report: ReleaseReport) -> None:
                     report.problems.append(f"{path.name}: graded cell {gid} has no points")
                 if cell.cell_type == "code" and not (gid.startswith("test_") and gid[5:] in CONTRACT_NAMES):
                     report.problems.append(f"{path.name}: autograded cell has an unstable grade_id {gid!r}")
-                total += float(points or 0)
+                if cell.cell_type == "code":
+                    total += float(points or 0)
+                else:
+                    manual += float(points or 0)
         report.points[path.stem] = total
+        report.manual_points[path.stem] = manual
 
 
 def demo_notebook(paths: CoursePaths) -> nbformat.NotebookNode:
@@ -368,11 +379,14 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
     paths = paths or course_paths()
     report = ReleaseReport()
     started = time.monotonic()
+    say = functools.partial(print, flush=True)
+    say("building the instructor notebooks and nbgrader's release ...")
     sources = build_sources(paths.notebooks, paths.source, assignment)
     generate_assignment(paths, assignment)
     released = sorted((paths.release / assignment).glob("*.ipynb"))
     bundle = write_bundle(paths, assignment)
 
+    say("scanning the release and the student bundle for leaks ...")
     texts = {f"release/{p.name}": p.read_text() for p in released}
     with zipfile.ZipFile(bundle) as z:
         for name in z.namelist():
@@ -381,24 +395,38 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
     report.problems += scan_for_leaks(texts, teaching_bodies(paths.notebooks, assignment))
     check_points(sources, report)
     if execute:
-        check_source_execution(sources, report, paths)
-        check_grades(sources, paths.source / assignment, True, report, "teaching", paths)
-        check_release_execution(released, report)
-        check_grades(sources, paths.release / assignment, False, report, "blank", paths)
-        check_demo_execution(demo_notebook(paths), report)
+        steps = (
+            ("executing the instructor notebooks", lambda: check_source_execution(sources, report, paths)),
+            ("grading the teaching solutions (they must earn every point)",
+             lambda: check_grades(sources, paths.source / assignment, True, report, "teaching", paths)),
+            ("executing the release notebooks with their stubs", lambda: check_release_execution(released, report)),
+            ("grading the blank release (it must earn nothing)",
+             lambda: check_grades(sources, paths.release / assignment, False, report, "blank", paths)),
+            (f"executing the demo {DEMO}", lambda: check_demo_execution(demo_notebook(paths), report)),
+        )
+        for k, (what, step) in enumerate(steps, 1):
+            say(f"[{k}/{len(steps)}] {what} ...")
+            step()
+        report.executed = True
     report.timings["release total"] = time.monotonic() - started
 
+    regular = [nb for nb in report.points if not is_bonus(nb)]
+    say(f"  {'notebook':<22} {'autograded':>10} {'by hand':>8}")
     for nb, pts in report.points.items():
-        print(f"  {nb:<22} {pts:5.1f} points" + (" (bonus)" if is_bonus(nb) else ""))
-    print(f"  {'total':<22} {sum(p for nb, p in report.points.items() if not is_bonus(nb)):5.1f} points"
-          f" + {sum(p for nb, p in report.points.items() if is_bonus(nb)):g} bonus")
+        say(f"  {nb:<22} {pts:10g} {report.manual_points[nb]:8g}" + ("  (bonus)" if is_bonus(nb) else ""))
+    say(f"  {'total':<22} {sum(report.points[nb] for nb in regular):10g} {sum(report.manual_points[nb] for nb in regular):8g}"
+        f"  + {sum(p for nb, p in report.points.items() if is_bonus(nb)):g} bonus")
+    say("  (grades.csv holds the autograded points; the answers graded by hand are scored in formgrader)")
     for what, secs in report.timings.items():
-        print(f"  {what:<28} {secs:6.1f} s")
-    print(f"student bundle: {bundle.relative_to(paths.root)}")
+        say(f"  {what:<28} {secs:6.1f} s")
+    say(f"student bundle: {bundle.relative_to(paths.root)}")
     if report.problems:
-        print(f"RELEASE CHECKS FAILED ({len(report.problems)}):")
+        say(f"RELEASE CHECKS FAILED ({len(report.problems)}):")
         for p in report.problems:
-            print(f"  - {p}")
+            say(f"  - {p}")
+    elif report.executed:
+        say("release checks passed: nothing leaked, the teaching solutions earn every point, a blank submission earns none")
     else:
-        print("release checks passed: nothing leaked, the teaching solutions earn every point, a blank submission earns none")
+        say("release checks passed: nothing leaked, every graded cell has points. "
+            "NOT checked (--no-execute): that the notebooks run, that the teaching solutions earn every point and a blank submission none")
     return report

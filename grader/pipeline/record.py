@@ -75,6 +75,23 @@ def append_log(out: Path, result: dict) -> None:
         fh.flush()
 
 
+def compact_log(out: Path) -> None:
+    """Keep one ``log.jsonl`` record per student × notebook: the last one (a re-run appends again)."""
+    path = Path(out) / "log.jsonl"
+    if not path.is_file():
+        return
+    last: dict[tuple, str] = {}
+    for line in path.read_text(encoding="utf-8").splitlines():
+        try:
+            rec = json.loads(line)
+            key = (rec["student_id"], rec["notebook"])
+        except (ValueError, KeyError, TypeError):
+            continue  # a line cut by a crash mid-write
+        last.pop(key, None)  # re-insert: the file keeps the order in which units were last graded
+        last[key] = line
+    write_text_atomic(path, "".join(line + "\n" for line in last.values()))
+
+
 def write_feedback(out: Path, result: dict) -> None:
     if result.get("feedback_html"):
         write_text_atomic(Path(out) / "feedback" / safe_name(result["student_id"]) / f"{result['notebook']}.html", result["feedback_html"])

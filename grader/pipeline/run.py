@@ -25,6 +25,7 @@ from grader.contract import ASSIGNMENT
 from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
 from grader.pipeline.sanitize import read_submission_bytes
+from grader.pipeline.submitted import student_folders
 from grader.pipeline.unit import UnitSpec, grade_unit, sha256_of, zero_result
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES, remove_stale_limits
@@ -44,6 +45,7 @@ class GradeOptions:
     autograded: Path | None = None  # where executed notebooks go for formgrader; default: the course's autograded/
     wall: float = 900.0  # seconds per notebook
     disk_bytes: int = DEFAULT_FILE_BYTES  # each student's workdir
+    student: str | None = None  # grade only this student again; the others' results are read from OUT as they are
 
 
 def _worker_init() -> None:
@@ -111,7 +113,7 @@ def plan_units(submitted: Path, sources: list[Path], seed: int, options: GradeOp
 
     A student folder that is a link is not followed (its student gets a row saying so).
     """
-    folders = {p.name: p for p in sorted(Path(submitted).iterdir()) if p.is_dir() and not p.name.startswith(".")}
+    folders = student_folders(submitted, options.assignment)
     units = []
     for sid in sorted(set(folders) | set(roster)):
         folder = folders.get(sid)
@@ -232,8 +234,16 @@ def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Cours
 
     results: list[dict] = []
     todo = []
+    if options.student is not None and options.student not in {u.student_id for u in units}:
+        raise ValueError(f"--student {options.student!r}: no such student in {submitted} or the gradebook")
     for unit in units:
-        previous = _reusable(out, unit)
+        if options.student is not None and unit.student_id != options.student:
+            previous = record.load_unit(out, unit.student_id, unit.notebook)
+            if previous is None:
+                raise ValueError(f"--student regrades one student of an earlier run into {out}, which has no result for {unit.student_id} {unit.notebook}")
+            results.append(previous | {"reused": True})
+            continue
+        previous = None if options.student is not None else _reusable(out, unit)
         if previous:
             results.append(previous)
         else:
@@ -268,6 +278,7 @@ def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Cours
                 remove_stale_limits()
     bar.close()
     record.write_grades_csv(out, results)
+    record.compact_log(out)
     _print_summary(results, out)
     return results
 

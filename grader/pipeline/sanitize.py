@@ -95,6 +95,15 @@ def read_submission_bytes(path: Path) -> bytes:
     return data
 
 
+def _released_source(cell) -> str:
+    """The text a student received for a read-only cell: nbgrader's release clears its hidden tests."""
+    from nbgrader.preprocessors import ClearHiddenTests
+
+    released = copy.deepcopy(cell)
+    ClearHiddenTests()._remove_hidden_test_region(released)
+    return released.source
+
+
 def read_submission(path: Path) -> nbformat.NotebookNode:
     """Read a submitted file as a v4 notebook.
 
@@ -197,7 +206,8 @@ def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> S
             seen.add(gid)
         if gid in locked_source:
             original = locked_source[gid]
-            if cell.source != original.source or cell.cell_type != original.cell_type:
+            # The student's copy of a tests cell lacks the hidden tests: compare with what was handed out.
+            if cell.cell_type != original.cell_type or cell.source not in (original.source, _released_source(original)):
                 notes.append(f"restored the edited read-only cell {gid}")
             cell = copy.deepcopy(original)
         cells.append(cell)  # rebuilt below; the student's own metadata is never copied

@@ -27,6 +27,7 @@ from grader.pipeline.neutralize import neutralize
 from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, verify
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
+from grader.report.digest import output_digest
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 from grader.sandbox.workspace import workspace
 
@@ -196,8 +197,10 @@ def _grade_in(ws, spec: UnitSpec, source, sanitized, cells, started: float) -> d
                         "error": c.error,
                         "seconds": c.seconds,
                         "failed": [f"{v.name}: {v.detail}" for v in c.verdicts if not v.passed],
+                        # Wrong outputs only: identical ones across students are collusion evidence (grader/report/collusion.py).
+                        "digest": _wrong_output_digest(c, collected, k),
                     }
-                    for c in result.cases
+                    for k, c in enumerate(result.cases)
                 ],
             }
         )
@@ -246,6 +249,12 @@ def _verified(function: str, seed: int, outputs: Path, failure: str | None):
     except (GraderLimitExceeded, MemoryError) as exc:
         why = "took too long" if isinstance(exc, GraderLimitExceeded) else "needed too much memory"
         return verify(function, seed, None, f"checking these outputs {why} (the grader's own limits); they score 0"), None
+
+
+def _wrong_output_digest(case, collected, k: int) -> str | None:
+    if case.passed or collected is None or k >= len(collected.cases) or collected.cases[k].error is not None:
+        return None
+    return output_digest(collected.cases[k].value) or None
 
 
 def _grader_error(spec: UnitSpec, source: nbformat.NotebookNode, exc: BaseException, started: float) -> dict:

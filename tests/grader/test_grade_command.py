@@ -95,8 +95,45 @@ def test_rerunning_into_the_same_folder_reuses_results_and_writes_the_same_grade
     before = (out / "grades.csv").read_text()
     assert main(["grade", *argv]) == 0
     assert (out / "grades.csv").read_text() == before
-    last = [json.loads(line) for line in (out / "log.jsonl").read_text().splitlines()][-1]
-    assert last["reused"] is True
+    log = [json.loads(line) for line in (out / "log.jsonl").read_text().splitlines()]
+    assert log[-1]["reused"] is True
+    keys = [(r["student_id"], r["notebook"]) for r in log]
+    assert len(keys) == len(set(keys)) == len(rows(out)), "one log record per student × notebook"
+
+
+def test_grade_prints_a_score_table_per_student_and_per_notebook(graded, capsys):
+    _, _, _, argv = graded
+    assert main(["grade", *argv]) == 0
+    printed = capsys.readouterr().out
+    table = printed[printed.index("student "):]
+    ada = next(line.split() for line in table.splitlines() if line.startswith("Ada_Lovelace"))
+    full = {r["notebook"]: r["max_score"] for r in rows(graded[1]) if r["student_id"] == "Ada_Lovelace"}
+    assert ada[2] == f"{float(full[NOTEBOOK]):g}/{float(full[NOTEBOOK]):g}", "01 is the second column"
+    assert "median" in table and any(line.startswith(NOTEBOOK) for line in table.splitlines())
+
+
+def test_one_student_is_graded_again_without_touching_the_others(graded, source_notebooks):
+    tmp, out, _, argv = graded
+    ada = out / "units" / "Ada_Lovelace" / f"{NOTEBOOK}.json"
+    ada_before = ada.read_bytes(), ada.stat().st_mtime_ns
+    bob = tmp / "submitted" / "bob" / "deformation" / f"{NOTEBOOK}.ipynb"
+    nbformat.write(as_student(source_notebooks[NOTEBOOK]), bob)  # bob resubmits a correct notebook
+    try:
+        assert main(["grade", *argv, "--student", "bob"]) == 0
+    finally:
+        bob.write_bytes(b"\x00\x01 not a notebook")
+    table = {(r["student_id"], r["notebook"]): r for r in rows(out)}
+    assert float(table[("bob", NOTEBOOK)]["score"]) == float(table[("bob", NOTEBOOK)]["max_score"]) > 0
+    assert (ada.read_bytes(), ada.stat().st_mtime_ns) == ada_before
+    log = [json.loads(line) for line in (out / "log.jsonl").read_text().splitlines()]
+    assert {r["student_id"] for r in log if not r["reused"]} == {"bob"}
+    assert main(["grade", *argv]) == 0  # and back: the original bob is graded again on the plain re-run
+
+
+def test_an_unknown_student_is_a_usage_error(graded, capsys):
+    _, _, _, argv = graded
+    assert main(["grade", *argv, "--student", "nobody"]) == 2
+    assert "'nobody': no such student" in capsys.readouterr().err
 
 
 def test_a_missing_submitted_folder_is_a_usage_error(tmp_path, capsys):

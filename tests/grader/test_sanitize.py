@@ -95,3 +95,25 @@ def test_a_notebook_of_another_assignment_is_rejected(source, tmp_path):
 def test_a_missing_file_is_a_reason_not_a_crash(tmp_path):
     with pytest.raises(SubmissionError, match="cannot read"):
         read_submission(tmp_path / "absent.ipynb")
+
+
+def released(source):
+    """The student's copy as nbgrader's generate_assignment makes it: solutions and hidden tests cleared."""
+    from nbgrader.preprocessors import ClearHiddenTests, ClearSolutions
+
+    nb = copy.deepcopy(source)
+    nb, _ = ClearSolutions().preprocess(nb, {})
+    nb, _ = ClearHiddenTests().preprocess(nb, {})
+    return nb
+
+
+def test_an_untouched_release_notebook_gets_no_repair_note(source):
+    clean = sanitize(released(source), source)
+    assert clean.notes == []
+
+
+def test_an_edited_release_tests_cell_is_still_reported(source):
+    student = released(source)
+    next(c for c in student.cells if gid(c) == "test_optimal_rotation").source += "\nassert True"
+    clean = sanitize(student, source)
+    assert clean.notes == ["restored the edited read-only cell test_optimal_rotation"]

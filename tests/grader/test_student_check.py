@@ -52,3 +52,26 @@ def test_a_complete_notebook_passes_with_exit_status_zero(student_notebook, caps
     nbformat.write(nb, path)
     assert main(["check", str(path)]) == 0
     assert capsys.readouterr().out.strip().splitlines()[-1] == "4 passed, 0 failed"
+
+
+def test_the_bundled_script_explains_itself(repo_root):
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, str(repo_root / "grader" / "student_check.py"), "--help"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "usage: python check_notebook.py" in done.stdout and "--timeout" in done.stdout
+
+
+def test_a_failing_tests_cell_shows_its_whole_message(student_notebook, capsys):
+    nb, folder = student_notebook
+    nb = fill(nb, "centroid")
+    cell = next(c for c in nb.cells if (c.metadata.get("nbgrader") or {}).get("grade_id") == "test_covariance_matrix")
+    hint = "first line of the hint\n" + "a second line that is long " * 10 + "END-OF-HINT"
+    cell.source = f"raise AssertionError({hint!r})"
+    path = folder / "long_message.ipynb"
+    nbformat.write(nb, path)
+    main(["check", str(path)])
+    out = capsys.readouterr().out
+    assert "first line of the hint" in out and "END-OF-HINT" in out
+    assert max(len(line) for line in out.splitlines()) < 140

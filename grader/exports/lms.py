@@ -1,0 +1,122 @@
+"""Gradebook CSV files for Canvas and Moodle, from a grading run's ``grades.csv`` (``deformlab export``).
+
+One number per student: the assignment's autograded score, regular notebooks
+plus bonus notebooks (extra credit, allowed above the points possible by both
+systems), minus any late penalty recorded in ``grades.csv``.
+
+Canvas (Grades > Import): identity columns ``Student, ID, SIS User ID, SIS Login
+ID, Section``, then one column per assignment, with an optional second row
+``Points Possible``. Canvas matches rows on ``ID`` or the SIS ids; with a
+``roster`` (Canvas's own gradebook export) each student's row carries Canvas's
+identity columns, found where the nbgrader id equals the SIS Login ID, the SIS
+User ID or the ID; without it the nbgrader id fills both SIS columns.
+
+Moodle (Grades > Import > CSV file): a user identifier column, mapped on import
+to ``idnumber``, ``username`` or ``email``, and one column per grade item; an
+optional feedback column maps to the item's feedback.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import dataclass
+from pathlib import Path
+
+from grader.contract import is_bonus
+
+CANVAS_IDENTITY = ("Student", "ID", "SIS User ID", "SIS Login ID", "Section")
+
+
+@dataclass
+class Total:
+    student_id: str
+    score: float
+    max_score: float  # regular notebooks only: bonus is extra credit
+    late_penalty: float = 0.0
+
+
+def totals(grades_csv: Path) -> list[Total]:
+    """Per student: the assignment's score (after late penalties) and its regular maximum.
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``grades_csv`` does not exist.
+    """
+    by_student: dict[str, Total] = {}
+    with open(grades_csv, encoding="utf-8", newline="") as fh:
+        for row in csv.DictReader(fh):
+            t = by_student.setdefault(row["student_id"], Total(row["student_id"], 0.0, 0.0))
+            t.score += float(row["score"])
+            if not is_bonus(row["notebook"]):
+                t.max_score += float(row["max_score"])
+            t.late_penalty += float(row.get("late_penalty") or 0)
+    for t in by_student.values():
+        t.score = max(0.0, round(t.score - t.late_penalty, 4))
+    return [by_student[s] for s in sorted(by_student)]
+
+
+def _read_roster(roster: Path) -> list[dict]:
+    with open(roster, encoding="utf-8-sig", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    missing = [c for c in CANVAS_IDENTITY if rows and c not in rows[0]]
+    if not rows or missing:
+        raise ValueError(f"{roster} is not a Canvas gradebook export: missing column(s) {', '.join(missing) or 'all (empty file)'}")
+    return [r for r in rows if r["Student"].strip() not in ("Points Possible", "Student, Test")]
+
+
+def canvas_csv(rows: list[Total], column: str, roster: Path | None = None) -> tuple[str, list[str]]:
+    """Canvas's gradebook import file and the nbgrader ids it could not place.
+
+    Parameters
+    ----------
+    column : str
+        The assignment's column, as Canvas names it (``Deformation (12345)`` updates
+        assignment 12345; a new name creates an assignment).
+    roster : Path, optional
+        Canvas's gradebook export, to carry Canvas's own identity columns.
+    """
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow([*CANVAS_IDENTITY, column])
+    top = max((t.max_score for t in rows), default=0)
+    writer.writerow(["Points Possible", "", "", "", "", f"{top:g}"])
+    unmatched = []
+    if roster is None:
+        for t in rows:
+            writer.writerow(["", "", t.student_id, t.student_id, "", f"{t.score:g}"])
+        return buf.getvalue(), unmatched
+    people = _read_roster(roster)
+    index = {}
+    for person in people:
+        for key in ("SIS Login ID", "SIS User ID", "ID"):
+            if person[key].strip():
+                index.setdefault(person[key].strip(), person)
+    for t in rows:
+        person = index.get(t.student_id)
+        if person is None:
+            unmatched.append(t.student_id)
+            continue
+        writer.writerow([person[c] for c in CANVAS_IDENTITY] + [f"{t.score:g}"])
+    return buf.getvalue(), unmatched
+
+
+def moodle_csv(rows: list[Total], item: str, identifier: str = "ID number", feedback: dict[str, str] | None = None) -> str:
+    """Moodle's CSV grade import file: ``identifier, item[, Feedback]``, one row per student.
+
+    Parameters
+    ----------
+    item : str
+        The grade item's name (mapped to the item on import).
+    identifier : str
+        Header of the id column (``ID number``, ``Username`` or ``Email address``, as the nbgrader ids are).
+    feedback : dict, optional
+        Student id -> feedback text (mapped to the item's feedback on import).
+    """
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow([identifier, item] + (["Feedback"] if feedback is not None else []))
+    for t in rows:
+        writer.writerow([t.student_id, f"{t.score:g}"] + ([feedback.get(t.student_id, "")] if feedback is not None else []))
+    return buf.getvalue()

@@ -1,0 +1,42 @@
+"""The student folders of a submitted folder, in nbgrader's ``submitted/<student>/<assignment>/`` layout."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+
+def student_folders(submitted: Path, assignment: str) -> dict[str, Path]:
+    """Student id -> folder, for every sub-folder of ``submitted`` that holds ``<assignment>/``.
+
+    A folder without it is not a submission of this assignment (an output folder,
+    a stray download): it is named on stderr and left out, so it never becomes a
+    student of the gradebook.
+
+    Raises
+    ------
+    ValueError
+        If no sub-folder holds ``<assignment>/``: ``submitted`` is most likely the wrong folder.
+    """
+    submitted = Path(submitted)
+    found, skipped = {}, []
+    for path in sorted(submitted.iterdir()):
+        if not path.is_dir() or path.name.startswith("."):
+            continue
+        if (path / assignment).is_dir():
+            found[path.name] = path
+        else:
+            skipped.append(path.name)
+    if not found:
+        raise ValueError(
+            f"{submitted} holds no <student>/{assignment}/ folder: SUBMITTED must be nbgrader's submitted folder, "
+            f"one folder per student with the notebooks in <student>/{assignment}/"
+            + (f" (its sub-folders: {', '.join(skipped[:5])}{', ...' if len(skipped) > 5 else ''})" if skipped else "")
+        )
+    if skipped:
+        print(
+            f"warning: skipped {len(skipped)} folder(s) of {submitted} without a {assignment}/ sub-folder: "
+            + ", ".join(skipped[:10]) + (", ..." if len(skipped) > 10 else ""),
+            file=sys.stderr,
+        )
+    return found

@@ -1,0 +1,1 @@
+"""What a TA reads after grading: score tables, the class report, collusion evidence."""

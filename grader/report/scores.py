@@ -1,0 +1,61 @@
+"""Score tables printed after grading: per student when the class is small, per notebook always."""
+
+from __future__ import annotations
+
+import statistics
+
+from grader.contract import is_bonus
+
+#: Above this many students, ``grade`` prints per-notebook statistics only (grades.csv has every row).
+MAX_STUDENT_ROWS = 40
+
+
+def score_table(results: list[dict], students: list[str], notebooks: list[str]) -> str:
+    """Students × notebooks scores (``score/max``), each student's regular total and bonus, as aligned text."""
+    by_unit = {(r["student_id"], r["notebook"]): r for r in results}
+    width = max(len(s) for s in students)
+    heads = [nb.split("_", 1)[0] + ("+" if is_bonus(nb) else "") for nb in notebooks]
+    lines = [f"{'student':<{width}}  " + "  ".join(f"{h:>9}" for h in heads) + f"  {'total':>11}  {'bonus':>9}"]
+    for sid in students:
+        units = [by_unit[(sid, nb)] for nb in notebooks]
+        cells = [f"{u['score']:g}/{u['max_score']:g}" for u in units]
+        regular = [u for u in units if not is_bonus(u["notebook"])]
+        extra = [u for u in units if is_bonus(u["notebook"])]
+        total = f"{sum(u['score'] for u in regular):g}/{sum(u['max_score'] for u in regular):g}"
+        bonus = f"+{sum(u['score'] for u in extra):g}" if extra else "-"
+        lines.append(f"{sid:<{width}}  " + "  ".join(f"{c:>9}" for c in cells) + f"  {total:>11}  {bonus:>9}")
+    if any(is_bonus(nb) for nb in notebooks):
+        lines.append("(+ marks a bonus notebook: its points are extra credit, outside the total)")
+    return "\n".join(lines)
+
+
+def notebook_stats(results: list[dict], notebooks: list[str]) -> str:
+    """Per notebook: students, mean, median, full marks, zero, and rows not graded normally, as aligned text."""
+    lines = [f"{'notebook':<22} {'max':>5} {'mean':>6} {'median':>6} {'full':>5} {'zero':>5}  not graded"]
+    for nb in notebooks:
+        units = [r for r in results if r["notebook"] == nb]
+        scores = [r["score"] for r in units]
+        top = max((r["max_score"] for r in units), default=0)
+        odd = {}
+        for r in units:
+            if r["status"] not in ("graded", "graded-with-incidents"):
+                odd[r["status"]] = odd.get(r["status"], 0) + 1
+        lines.append(
+            f"{nb + (' +' if is_bonus(nb) else ''):<22} {top:>5g} {statistics.fmean(scores):>6.2f} {statistics.median(scores):>6.2f} "
+            f"{sum(s >= top > 0 for s in scores):>5} {sum(s == 0 for s in scores):>5}  "
+            + (", ".join(f"{n} {s}" for s, n in sorted(odd.items())) or "-")
+        )
+    return "\n".join(lines)
+
+
+def class_summary(results: list[dict]) -> str:
+    """What ``deformlab grade`` prints at the end: the per-student table (small classes) and per-notebook statistics."""
+    if not results:
+        return "no notebooks were graded"
+    students = sorted({r["student_id"] for r in results})
+    notebooks = sorted({r["notebook"] for r in results})
+    parts = []
+    if len(students) <= MAX_STUDENT_ROWS:
+        parts += [score_table(results, students, notebooks), ""]
+    parts.append(notebook_stats(results, notebooks))
+    return "\n".join(parts)

@@ -1,0 +1,57 @@
+"""What `deformlab release` prints is true: checks it skipped are not announced as passed, points match grades.csv."""
+
+import contextlib
+import io
+from pathlib import Path
+
+import nbformat
+import pytest
+
+from grader.build.release import ReleaseReport, check_grades, release
+from grader.contract import ASSIGNMENT
+from grader.paths import CoursePaths
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def quick_release(tmp_path_factory):
+    root = tmp_path_factory.mktemp("course")
+    for name in ("notebooks", "starter", "data", "reference"):
+        (root / name).symlink_to(ROOT / name)
+    (root / "assignments").mkdir()
+    paths = CoursePaths(root)
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        report = release(paths=paths, execute=False)
+    return paths, report, buf.getvalue()
+
+
+def test_no_execute_does_not_claim_the_execution_checks_passed(quick_release):
+    _, report, printed = quick_release
+    assert report.ok and not report.executed
+    assert "the reference earns every point, a blank submission earns none" not in printed
+    assert "NOT checked (--no-execute)" in printed
+
+
+def test_the_points_table_separates_autograded_from_hand_graded_points(quick_release):
+    from grader.pipeline.verify import graded_cells
+
+    paths, report, printed = quick_release
+    for source in paths.source_notebooks(ASSIGNMENT):
+        autograded = sum(c.points for c in graded_cells(nbformat.read(source, as_version=4)))
+        assert report.points[source.stem] == autograded, "the autograded column is grades.csv's max_score"
+        row = next(line.split() for line in printed.splitlines() if line.split()[:1] == [source.stem])
+        assert float(row[1]) == autograded and float(row[2]) == report.manual_points[source.stem]
+    assert sum(report.manual_points.values()) > 0, "the course has hand-graded answers"
+    assert "graded by hand" in printed
+
+
+def test_the_grading_check_names_no_scratch_folder(quick_release, capsys):
+    paths, _, _ = quick_release
+    report = ReleaseReport()
+    sources = paths.source_notebooks(ASSIGNMENT)[:2]
+    check_grades(sources, paths.release / ASSIGNMENT, False, report, "blank", paths)
+    assert report.problems == []
+    out = capsys.readouterr().out
+    assert "dl-release-" not in out and "grades.csv" not in out
