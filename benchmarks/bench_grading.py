@@ -19,7 +19,7 @@ from pathlib import Path
 
 import nbformat
 
-from grader.build.lift import BEGIN_SOLUTION, END_SOLUTION
+from grader.build.authored import BEGIN_SOLUTION, END_SOLUTION
 from grader.build.release import generate_assignment
 from grader.build.source_notebook import build_sources
 from grader.paths import CoursePaths, course_paths

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import nbformat
 
-from grader.build.lift import BEGIN_SOLUTION, END_SOLUTION
+from grader.build.authored import BEGIN_SOLUTION, END_SOLUTION
 from grader.pipeline.sanitize import SubmissionError, read_submission
 
 #: copydetect's noise threshold (tokens) and winnowing window, its defaults for short code.

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import types
+from pathlib import Path
 
 import igl
 import numpy as np
@@ -14,6 +15,9 @@ import reference.arap as ref
 from reference.meshes import edges
 from grader.checks import check_namespace, seeded_cases, all_checks, evaluate, wire
 from grader.harness.outputs import CaseOutput
+
+
+REPO = Path(__file__).resolve().parents[2]
 
 
 def grade(function, seed=0, **replacements):
@@ -262,11 +266,13 @@ def test_scenes_have_clockwise_mixed_and_scaled_copies_the_reference_solves_alik
 
 
 def test_a_laplacian_of_signed_area_cotangents_is_told_about_clockwise_triangles():
-    from grader.build.lift import lift
+    from grader.build.authored import read_authored
 
-    # the notebook's Laplacian cell calls the student's cotangent_weights
+    # the notebook's own Laplacian cell calls the student's cotangent_weights
+    cells = read_authored(REPO / "notebooks" / "deformation" / "03_arap.py").cells
+    laplacian = next(c.source for c in cells if c.kind == "solution" and c.function == "cotangent_laplacian")
     notebook = {"cotangent_weights": cotangent_weights_of_signed_area}
-    exec(lift("cotangent_laplacian").source, notebook)
+    exec(laplacian, notebook)
     result = grade("cotangent_laplacian", cotangent_laplacian=notebook["cotangent_laplacian"])
     details = [v.detail for c in result.cases for v in c.verdicts if not v.passed]
     assert any("clockwise mesh" in d and "signed area" in d for d in details)

@@ -64,8 +64,8 @@ def test_the_bundled_script_explains_itself(repo_root):
 
 
 def test_a_failing_tests_cell_shows_its_whole_message(student_notebook, capsys):
-    nb, folder = student_notebook
-    nb = fill(nb, "centroid")
+    nb, folder, solutions = student_notebook
+    nb = fill(nb, "centroid", solutions)
     cell = next(c for c in nb.cells if (c.metadata.get("nbgrader") or {}).get("grade_id") == "test_covariance_matrix")
     hint = "first line of the hint\n" + "a second line that is long " * 10 + "END-OF-HINT"
     cell.source = f"raise AssertionError({hint!r})"
