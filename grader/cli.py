@@ -20,6 +20,15 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("deformlab")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
+
+
 def _cmd_build(args) -> int:
     from grader.build.source_notebook import build_sources
     from grader.paths import course_paths
@@ -47,6 +56,8 @@ def _cmd_grade(args) -> int:
         db_url=args.db,
         seed=args.seed,
         assignment=args.assignment,
+        scheduler=args.scheduler,
+        allow_unsandboxed=args.allow_unsandboxed,
     )
     grade_class(Path(args.submitted), Path(args.out), options)
     return 0
@@ -73,6 +84,12 @@ def _cmd_demo(args) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="deformlab", description=__doc__)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    parser.add_argument(
+        "--course",
+        default=None,
+        help="the course kit's folder (with data/, notebooks/, assignments/); default: see grader.paths.course_paths",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("build", help="build the instructor notebooks (assignments/source) from notebooks/ and reference/")
@@ -99,6 +116,16 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--db", default=None, help="SQLAlchemy URL of the nbgrader gradebook (default: the course's SQLite)")
     p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: fresh, recorded in the log)")
     p.add_argument("--assignment", default=ASSIGNMENT)
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        help="grade on a Dask cluster: tcp://HOST:PORT of a running `dask scheduler`, or local:N worker processes here",
+    )
+    p.add_argument(
+        "--allow-unsandboxed",
+        action="store_true",
+        help="let Dask workers without bubblewrap grade (without filesystem/network isolation); they refuse units otherwise",
+    )
     p.set_defaults(run=_cmd_grade)
 
     p = sub.add_parser("gradescope", help="build a Gradescope autograder zip")
@@ -117,6 +144,10 @@ def main(argv: list[str] | None = None) -> int:
 
     args = parser.parse_args(argv)
     try:
+        if args.course:
+            from grader.paths import use_course
+
+            use_course(args.course)
         return args.run(args)
     except KeyboardInterrupt:
         return 130

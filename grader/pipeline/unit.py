@@ -1,9 +1,11 @@
 """One work unit: one student × one notebook, from file to verdicts.
 
-``grade_unit`` is a pure function of its inputs (paths, seed, options) that
-returns a JSON-serializable dict, so it can run in a process pool here, or as a
-task of a distributed engine (Dask, Ray, Celery) with the same code: the engine
-ships a ``UnitSpec`` and receives the dict; recording stays in one place.
+``grade_unit`` is a pure function of a self-contained ``UnitSpec`` (the
+submitted bytes, the instructor notebook's text, seed, assignment, limits: no
+host paths) that returns a JSON-serializable dict, so it runs the same in a
+process pool here or as a task on another machine of a Dask cluster
+(``grader.pipeline.distributed``): the engine ships a ``UnitSpec`` and receives
+the dict; recording stays in one process (``grader.pipeline.record``).
 """
 
 from __future__ import annotations
@@ -19,17 +21,18 @@ from pathlib import Path
 import nbformat
 
 from grader.harness.fixtures import write_fixtures
+from grader.paths import course_paths
 from grader.harness.outputs import OutputError, read_outputs
 from grader.pipeline.execute import ExecuteOptions, execute
 from grader.pipeline.feedback import feedback_html
-from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
+from grader.pipeline.sanitize import MAX_NOTEBOOK_BYTES, SubmissionError, read_submission, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, verify
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
 
 @dataclass
 class UnitSpec:
-    """Everything one work unit needs, all plain data.
+    """Everything one work unit needs, all plain data (no host paths).
 
     Attributes
     ----------
@@ -37,32 +40,60 @@ class UnitSpec:
         Exactly as the submission folder is named.
     notebook : str
         File stem of the assignment's notebook, e.g. ``03_arap``.
-    submission : str or None
-        Path of the submitted file; None if the student submitted none.
+    submission : bytes or None
+        The submitted file's content; None if the student submitted none or
+        ``submission_error`` says why it was not read.
     source : str
-        Path of the instructor (source) notebook.
+        The instructor (source) notebook, as JSON text.
     seed : int
         Seed of the run's hidden inputs.
+    submission_sha256 : str or None
+        Hash of the submitted file (identifies it when a re-run reuses results).
+    submission_error : str or None
+        Why the submitted file was not shipped (too large, unreadable).
     """
 
     student_id: str
     notebook: str
-    submission: str | None
+    submission: bytes | None
     source: str
     seed: int
     assignment: str = "deformation"
     timeout: float = 60.0
     memory_bytes: int = 4 * 2**30
     max_processes: int | None = DEFAULT_MAX_PROCESSES
-    readonly: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    submission_sha256: str | None = None
+    submission_error: str | None = None
 
 
-def sha256_of(path: str | Path) -> str | None:
+def read_submission_bytes(path: str | Path | None) -> tuple[bytes | None, str | None, str | None]:
+    """``(content, sha256, error)`` of a submitted file; content is kept up to the size limit only.
+
+    ``error`` names why the file is not shipped (over ``MAX_NOTEBOOK_BYTES``,
+    unreadable); ``sha256`` (of the whole file) is None only if it could not be read.
+    """
+    if path is None:
+        return None, None, None
+    digest, content, size = hashlib.sha256(), bytearray(), 0
     try:
-        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-    except OSError:
-        return None
+        with open(path, "rb") as fh:
+            while chunk := fh.read(2**20):
+                digest.update(chunk)
+                size += len(chunk)
+                if size <= MAX_NOTEBOOK_BYTES:
+                    content += chunk
+    except OSError as exc:
+        return None, None, f"cannot read the submission: {exc.strerror}"
+    if size > MAX_NOTEBOOK_BYTES:
+        return None, digest.hexdigest(), f"the notebook is {size / 2**20:.0f} MiB, over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit"
+    return bytes(content), digest.hexdigest(), None
+
+
+def course_readonly() -> list[str]:
+    """What a kernel may read of this machine's course kit: ``data/`` and the ``starter/`` package."""
+    paths = course_paths()
+    return [str(paths.data), str(paths.starter)]
 
 
 def zero_result(spec: UnitSpec, source: nbformat.NotebookNode, status: str, reason: str, started: float) -> dict:
@@ -85,14 +116,21 @@ def _result(spec: UnitSpec, status: str, tests: list[dict], reasons: list[str], 
         "tests": tests,
         "reasons": reasons,
         "seed": spec.seed,
-        "submission_sha256": sha256_of(spec.submission) if spec.submission else None,
+        "submission_sha256": spec.submission_sha256,
         "duration_s": round(time.monotonic() - started, 3),
         **extra,
     }
 
 
-def grade_unit(spec: UnitSpec) -> dict:
+def grade_unit(spec: UnitSpec, readonly: list[str] | None = None) -> dict:
     """Grade one submitted notebook. Never raises for anything the student did.
+
+    Parameters
+    ----------
+    spec : UnitSpec
+    readonly : list of str, optional
+        Host paths the kernel may read (the course's ``data/`` and ``starter/``);
+        default: those of the course kit on the machine that runs the unit.
 
     Returns
     -------
@@ -102,25 +140,22 @@ def grade_unit(spec: UnitSpec) -> dict:
         autograded_notebook`` (the executed notebook as JSON text, or None).
     """
     started = time.monotonic()
-    source = nbformat.read(spec.source, as_version=4)
+    source = nbformat.reads(spec.source, as_version=4)
+    if spec.submission_error is not None:
+        return _ungraded(spec, source, "invalid", spec.submission_error, started)
     if spec.submission is None:
-        return zero_result(spec, source, "missing", f"no {spec.notebook}.ipynb was submitted", started) | {
-            "feedback_html": feedback_html(spec, [], [f"No {spec.notebook}.ipynb was submitted."]),
-            "autograded_notebook": None,
-        }
-    try:
-        sanitized = sanitize(read_submission(Path(spec.submission)), source)
-    except SubmissionError as exc:
-        return zero_result(spec, source, "invalid", str(exc), started) | {
-            "feedback_html": feedback_html(spec, [], [str(exc)]),
-            "autograded_notebook": None,
-        }
-    except Exception as exc:  # noqa: BLE001 - the grader's own failure on this file: this row says so
-        return _grader_error(spec, source, exc, started)
-
+        return _ungraded(spec, source, "missing", f"no {spec.notebook}.ipynb was submitted", started,
+                         shown=f"No {spec.notebook}.ipynb was submitted.")
     cells = graded_cells(source)
     workdir = Path(tempfile.mkdtemp(prefix="dl-"))
     try:
+        try:
+            submitted = workdir / "submitted.ipynb"
+            submitted.write_bytes(spec.submission)
+            sanitized = sanitize(read_submission(submitted), source)
+            submitted.unlink()
+        except SubmissionError as exc:
+            return _ungraded(spec, source, "invalid", str(exc), started)
         fixtures, outputs = workdir / "fixtures", workdir / "outputs"
         outputs.mkdir()
         broken: dict[str, str] = {}  # functions whose hidden cases the reference itself failed on
@@ -141,7 +176,7 @@ def grade_unit(spec: UnitSpec) -> dict:
                 timeout=spec.timeout,
                 memory_bytes=spec.memory_bytes,
                 max_processes=spec.max_processes,
-                readonly=[Path(p) for p in spec.readonly],
+                readonly=[Path(p) for p in (course_readonly() if readonly is None else readonly)],
             ),
         )
         tests, results = [], []
@@ -199,6 +234,14 @@ def grade_unit(spec: UnitSpec) -> dict:
         return _grader_error(spec, source, exc, started)
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _ungraded(spec: UnitSpec, source: nbformat.NotebookNode, status: str, reason: str, started: float, shown: str | None = None) -> dict:
+    """Zero on every cell, the reason on the feedback page, no executed notebook."""
+    return zero_result(spec, source, status, reason, started) | {
+        "feedback_html": feedback_html(spec, [], [shown or reason]),
+        "autograded_notebook": None,
+    }
 
 
 def _grader_error(spec: UnitSpec, source: nbformat.NotebookNode, exc: BaseException, started: float) -> dict:
