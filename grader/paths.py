@@ -23,6 +23,9 @@ from pathlib import Path
 from grader.contract import ASSIGNMENT
 
 ROOT_VARIABLE = "DEFORMLAB_ROOT"
+#: nbgrader's course id of every gradebook the kit writes (``assignments/nbgrader_config.py`` says the same):
+#: a PostgreSQL gradebook enforces that each assignment's course exists.
+COURSE_ID = "deformlab"
 
 
 @dataclass(frozen=True)

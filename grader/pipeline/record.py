@@ -132,7 +132,9 @@ def open_gradebook(db_url: str):
     """An nbgrader ``Gradebook`` on ``db_url``, also while another run creates the same database's tables."""
     from nbgrader.api import Gradebook
 
-    return retry_on_conflict(lambda: Gradebook(db_url), lambda: None)
+    from grader.paths import COURSE_ID
+
+    return retry_on_conflict(lambda: Gradebook(db_url, course_id=COURSE_ID), lambda: None)
 
 
 def record_gradebook(gb, result: dict) -> None:
