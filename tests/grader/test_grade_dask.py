@@ -170,3 +170,19 @@ def test_a_worker_without_bubblewrap_refuses_units_and_the_ta_is_told(dask_run, 
     _, _, stderr, _, _ = dask_run
     _, _, names = cluster
     assert f"without bubblewrap get no units: {names['nobwrap']}" in stderr
+
+
+def test_a_local_cluster_grades_every_unit(course, tmp_path, source_notebooks):
+    _, root, _, env = course
+    submitted = tmp_path / "submitted"
+    (submitted / "ada" / "deformation").mkdir(parents=True)
+    (submitted / "ada" / "deformation" / "01_shape_matching.ipynb").write_text("{not json")
+    (submitted / "bob").mkdir()
+    run = subprocess.run(
+        [str(BIN / "deformlab"), "--course", str(root), "grade", str(submitted), "--out", str(tmp_path / "out"),
+         "--db", f"sqlite:///{tmp_path}/gb.db", "--seed", "1", "--scheduler", "local:2"],
+        capture_output=True, text=True, env=env, timeout=600,
+    )
+    assert run.returncode == 0, run.stderr[-3000:]
+    log = {(r["student_id"], r["notebook"]): r["status"] for r in map(json.loads, (tmp_path / "out" / "log.jsonl").read_text().splitlines())}
+    assert log == {(s, nb): "invalid" if (s, nb) == ("ada", "01_shape_matching") else "missing" for s in ("ada", "bob") for nb in source_notebooks}
