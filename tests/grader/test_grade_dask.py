@@ -34,9 +34,9 @@ pytestmark = [pytest.mark.slow, pytest.mark.filterwarnings("ignore::nbformat.war
 ROOT = Path(__file__).resolve().parents[2]
 BIN = Path(sys.executable).parent
 SEED = 424242
-#: Cheap notebooks, a correct submission and bugs that lose points.
+#: A correct submission and bugs that lose points; the ARAP one also has feedback pictures.
 ENTRIES = [e for e in load_corpus(ROOT / "tests" / "corpus") if e.name in
-           ("noisy_on_stderr", "centroid_ignores_weights", "no_sign_correction", "edges_not_deduplicated")]
+           ("noisy_on_stderr", "centroid_ignores_weights", "no_sign_correction", "solve_energy_before_global")]
 
 
 def _start(args: list[str], log: Path, env: dict) -> subprocess.Popen:
@@ -163,7 +163,15 @@ def test_scores_on_the_cluster_equal_the_process_pool_scores(dask_run, pool_rows
     assert code == 0, stderr[-3000:]
     assert _rows(out) == pool_rows
     lost = {(r["student_id"], r["notebook"]) for r in pool_rows if float(r["score"]) < float(r["max_score"])}
-    assert {sid for sid, _ in lost} >= {"centroid_ignores_weights", "no_sign_correction", "edges_not_deduplicated"}
+    assert {sid for sid, _ in lost} >= {"centroid_ignores_weights", "no_sign_correction", "solve_energy_before_global"}
+
+
+def test_feedback_pictures_show_the_functions_that_failed_only(course, pool_rows):
+    # solve_energy_before_global loses arap_solve only: laplacian_editing, pictured too when it fails, passes.
+    tmp = course[0]
+    page = (tmp / "out-pool" / "feedback" / "solve_energy_before_global" / "03_arap.html").read_text()
+    assert "energy per iteration" in page and "your deformation beside the reference" in page
+    assert "your result beside the reference" not in page
 
 
 def test_a_worker_without_bubblewrap_refuses_units_and_the_ta_is_told(dask_run, cluster):
