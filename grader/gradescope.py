@@ -28,7 +28,7 @@ apt-get update -qq
 DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3 python3-venv python3-dev bubblewrap libegl1 libgl1-mesa-dri
 cd /autograder/source
 python3 -m venv .venv
-.venv/bin/pip install -q .
+.venv/bin/pip install -q -c constraints.txt .
 DEFORMLAB_ROOT=/autograder/source .venv/bin/deformlab build
 """
 
@@ -38,7 +38,7 @@ cd /autograder/source
 DEFORMLAB_ROOT=/autograder/source exec .venv/bin/python -m grader.gradescope run --root /autograder
 """
 
-PACKAGED = ("reference", "grader", "starter", "data", "notebooks", "assignments/nbgrader_config.py", "pyproject.toml", "README.md")
+PACKAGED = ("reference", "grader", "starter", "data", "notebooks", "assignments/nbgrader_config.py", "pyproject.toml", "constraints.txt", "README.md")
 
 
 def build_autograder_zip(target: Path) -> Path:

@@ -10,7 +10,6 @@ from __future__ import annotations
 import csv
 import os
 import secrets
-import shutil
 import socket
 import sys
 import threading
@@ -81,18 +80,6 @@ class Graded:
         return self.results[(student_id(entry), entry.notebook)]
 
 
-def _course_root(tmp: Path, source_notebooks: dict[str, Path]) -> Path:
-    """A course root whose assignments/ is private to this test; data/, starter/, notebooks/ are the checkout's."""
-    root = tmp / "course"
-    source = root / "assignments" / "source" / "deformation"
-    source.mkdir(parents=True)
-    for name in ("data", "starter", "notebooks"):
-        (root / name).symlink_to(ROOT / name)
-    for path in source_notebooks.values():
-        shutil.copy(path, source / path.name)
-    return root
-
-
 def _processes_with(text: str) -> list[int]:
     found = []
     for proc in Path("/proc").iterdir():
@@ -106,11 +93,11 @@ def _processes_with(text: str) -> list[int]:
 
 
 @pytest.fixture(scope="module")
-def graded(source_notebooks, tmp_path_factory) -> Iterator[Graded]:
+def graded(make_course, tmp_path_factory) -> Iterator[Graded]:
     tmp = tmp_path_factory.mktemp("corpus")
     listener = Listener()
     params = {"REPO": str(ROOT), "PORT": str(listener.port), "TOKEN": secrets.token_hex(6)}
-    root = _course_root(tmp, source_notebooks)
+    root = make_course(tmp)
     submitted = tmp / "submitted"
     for entry in ENTRIES:
         build_submission(entry, root / "assignments" / "source" / "deformation", submitted, student_id(entry), params)
