@@ -227,14 +227,15 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
     if not options.scheduler and not bwrap_available():
         print("warning: bubblewrap not available: grading without filesystem/network isolation", file=sys.stderr)
 
-    results: list[dict] = []
+    reused: list[tuple[PlannedUnit, dict]] = []
     todo = []
     for unit in units:
         previous = _reusable(out, unit, seed)
         if previous:
-            results.append(previous)
+            reused.append((unit, previous))
         else:
             todo.append(unit)
+    results = [r for _, r in reused]
 
     from tqdm import tqdm
 
@@ -255,8 +256,9 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
     autograded = options.autograded or paths.course / "autograded"
     bar = tqdm(total=len(units), initial=len(results), desc="grading", unit="nb", disable=not options.progress, file=sys.stderr)
     with record.open_gradebook(db_url) as gb:
-        for r in results:
-            record.record_gradebook(gb, r)
+        for unit, r in reused:
+            if unit.in_folder:
+                record.record_gradebook(gb, r)
             record.append_log(out, r)
         for unit, result in stream:
             record_result(out, autograded, gb if unit.in_folder else None, result)

@@ -196,3 +196,19 @@ def test_two_concurrent_grade_runs_on_one_database_lose_nothing(server, source_n
             assert {r["student_id"] for r in rows} >= {*mine, *both, "shared"}
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+def test_a_later_run_without_a_students_folder_keeps_that_students_grades(server, graded, make_course, source_notebooks):
+    # Ada is in the gradebook's roster now; a run over another folder lists her with zeros in its
+    # own grades.csv ("no submission folder") but must not write those zeros over her grades.
+    root, url, results = graded
+    tmp = Path(tempfile.mkdtemp(prefix="dl-pgl-"))
+    try:
+        _submit(tmp / "later", "carl", None)
+        later = grade_class(tmp / "later", tmp / "out", GradeOptions(workers=1, db_url=url, seed=5, progress=False), CoursePaths(root))
+        ada = {r["notebook"]: r for r in later if r["student_id"] == "Ada_Lovelace"}
+        assert set(ada) == set(source_notebooks) and all(r["score"] == 0 and r["status"] == "missing" for r in ada.values())
+        assert _scores(server, url)[("Ada_Lovelace", NOTEBOOK)] == results[("Ada_Lovelace", NOTEBOOK)]["max_score"]
+        assert ("carl", NOTEBOOK) in _scores(server, url)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
