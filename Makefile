@@ -4,14 +4,15 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.deformlab-installed
-SYSTEM_PACKAGES := bubblewrap libegl1 libgl1-mesa-dri chromium chromium-driver
+SYSTEM_PACKAGES := bubblewrap libegl1 libgl1-mesa-dri chromium chromium-driver postgresql
 export VTK_DEFAULT_OPENGL_WINDOW ?= vtkEGLRenderWindow
 
 .PHONY: setup system-deps demo test test-fast bench meshes build release clean
 
 setup: system-deps $(STAMP)
 
-# Pictures need EGL (libegl1, libgl1-mesa-dri); the grading sandbox needs bubblewrap.
+# Pictures need EGL (libegl1, libgl1-mesa-dri); the grading sandbox needs bubblewrap; the
+# PostgreSQL gradebook tests start a private server from Debian's postgresql (never its system service).
 system-deps:
 	@missing=""; for p in $(SYSTEM_PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
@@ -25,10 +26,10 @@ system-deps:
 	  echo "warning: missing system packages:$$missing; install them with: sudo apt-get install$$missing" >&2; \
 	fi
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml constraints.txt
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q -e ".[dev]"
+	$(BIN)/python -m pip install -q -c constraints.txt -e ".[dev]"
 	@touch $@
 
 demo: setup

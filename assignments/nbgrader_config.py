@@ -14,3 +14,6 @@ c.CourseDirectory.course_id = "deformlab"
 # `nbgrader autograde` directly instead.
 c.ExecutePreprocessor.timeout = 60
 c.ClearSolutions.code_stub = {"python": "# YOUR CODE HERE\nraise NotImplementedError()"}
+# Where the course kit is (data/, notebooks/) for `deformlab` commands run from this folder,
+# also with a non-editable install (pip install ., the Gradescope zip, Dask workers).
+c.DeformLab.course_root = ".."

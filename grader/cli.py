@@ -92,6 +92,8 @@ def _cmd_grade(args) -> int:
         wall=args.wall,
         disk_bytes=args.disk * 2**20,
         student=args.student,
+        scheduler=args.scheduler,
+        allow_unsandboxed=args.allow_unsandboxed,
     )
     plugin = due = None
     if args.due:
@@ -195,6 +197,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     assignment_help = f"nbgrader assignment name (default: {ASSIGNMENT})"
+    parser.add_argument(
+        "--course",
+        default=None,
+        help="the course kit's folder (with data/, notebooks/, assignments/); default: see grader.paths.course_paths",
+    )
 
     p = sub.add_parser("build", help="build the instructor notebooks (assignments/source) from notebooks/ and reference/")
     p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
@@ -233,6 +240,16 @@ def build_parser() -> argparse.ArgumentParser:
                         "per-day:FRACTION (e.g. per-day:0.1), or module:Class of an nbgrader plugin")
     p.add_argument("--student", default=None, metavar="ID",
                    help="grade this student again (e.g. after a late submission); the others' results in OUT are kept as they are")
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        help="grade on a Dask cluster: tcp://HOST:PORT of a running `dask scheduler`, or local:N worker processes here",
+    )
+    p.add_argument(
+        "--allow-unsandboxed",
+        action="store_true",
+        help="let Dask workers without bubblewrap grade (without filesystem/network isolation); they refuse units otherwise",
+    )
     p.set_defaults(run=_cmd_grade)
 
     p = sub.add_parser("report", help="write the class report (HTML with plots, and CSV) of a grading run")
@@ -278,6 +295,10 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
+        if args.course:
+            from grader.paths import use_course
+
+            use_course(args.course)
         return args.run(args)
     except KeyboardInterrupt:
         return 130

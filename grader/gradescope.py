@@ -47,7 +47,7 @@ if ! "$PYTHON" -c 'import sys; sys.exit(sys.version_info < (3, 11))'; then
 fi
 cd "$SOURCE"
 [ -x .venv/bin/python ] || "$PYTHON" -m venv .venv
-.venv/bin/pip install -q .
+.venv/bin/pip install -q -c constraints.txt .
 # The installed starter package looks for data/ beside itself: a non-editable install needs its copy.
 # (Asked from /, where `import starter` cannot mean this source tree's folder.)
 INSTALLED="$(cd / && "$SOURCE/.venv/bin/python" -c 'import pathlib, starter; print(pathlib.Path(starter.__file__).resolve().parent.parent)')"
@@ -65,7 +65,7 @@ DEFORMLAB_ROOT="$SOURCE" exec "$SOURCE/.venv/bin/python" -m grader.gradescope ru
 
 CONFIG = "gradescope.json"
 
-PACKAGED = ("reference", "grader", "starter", "data", "notebooks", "assignments/nbgrader_config.py", "pyproject.toml", "README.md")
+PACKAGED = ("reference", "grader", "starter", "data", "notebooks", "assignments/nbgrader_config.py", "pyproject.toml", "constraints.txt", "README.md")
 
 
 def build_autograder_zip(target: Path, seed: int | None = None, assignment: str = ASSIGNMENT, allow_unsandboxed: bool = False) -> Path:

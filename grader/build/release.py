@@ -39,7 +39,7 @@ import nbformat
 from grader.build.authored import read_authored, referenced_names, solution_body
 from grader.build.source_notebook import HIDDEN_MARKERS, authored_notebooks, build_sources
 from grader.contract import ASSIGNMENT, CONTRACT_NAMES, is_bonus, reference_function
-from grader.paths import CoursePaths, course_paths
+from grader.paths import COURSE_ID, CoursePaths, course_paths
 
 STUDENT_REQUIREMENTS = """numpy>=1.26
 scipy>=1.11
@@ -127,6 +127,7 @@ def generate_assignment(paths: CoursePaths, assignment: str, db_url: str | None 
     config = Config()
     config.CourseDirectory.root = str(paths.course)
     config.CourseDirectory.db_url = db_url or paths.gradebook_url
+    config.CourseDirectory.course_id = COURSE_ID
     api = NbGraderAPI(coursedir=CourseDirectory(config=config), config=config)
     result = api.generate_assignment(assignment, force=True, create=True)
     if not result.get("success"):

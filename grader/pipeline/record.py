@@ -1,8 +1,10 @@
 """Step 5: record unit results: unit files, log, feedback, gradebook, grades.csv.
 
-Only the main process records, one unit at a time, so the gradebook never sees
-concurrent writes. Every file is written to a temporary name and renamed, so a
-crash mid-run leaves whole files only.
+Only the main process of a run records, one unit at a time. Several runs may
+share one gradebook (two TAs grading halves of a class into one PostgreSQL
+database): each unit's gradebook write is retried as a whole when a concurrent
+run created the same student or submission first. Every file is written to a
+temporary name and renamed, so a crash mid-run leaves whole files only.
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import time
 import warnings
 from pathlib import Path
 
@@ -120,11 +123,46 @@ def write_grades_csv(out: Path, results: list[dict]) -> Path:
     return path
 
 
+#: Attempts of one gradebook write that lost a race with another run (unique key taken, deadlock).
+GRADEBOOK_ATTEMPTS = 8
+
+
+def retry_on_conflict(write, rollback, attempts: int = GRADEBOOK_ATTEMPTS):
+    """``write()``, again after ``rollback()`` while a concurrent writer wins a unique key or a lock.
+
+    Raises the last error if every attempt failed.
+    """
+    from nbgrader.api import InvalidEntry
+    from sqlalchemy.exc import DBAPIError
+
+    for attempt in range(attempts):
+        try:
+            return write()
+        except (InvalidEntry, DBAPIError):
+            rollback()
+            if attempt == attempts - 1:
+                raise
+            time.sleep(0.02 * 2**attempt)
+
+
+def open_gradebook(db_url: str):
+    """An nbgrader ``Gradebook`` on ``db_url``, also while another run creates the same database's tables."""
+    from nbgrader.api import Gradebook
+
+    from grader.paths import COURSE_ID
+
+    return retry_on_conflict(lambda: Gradebook(db_url, course_id=COURSE_ID), lambda: None)
+
+
 def record_gradebook(gb, result: dict) -> None:
-    """Store a unit's autograded scores in an open nbgrader ``Gradebook``.
+    """Store a unit's autograded scores in an open nbgrader ``Gradebook`` (retried on a lost race).
 
     Manually graded cells (short answers) are flagged for formgrader.
     """
+    retry_on_conflict(lambda: _record_gradebook_once(gb, result), gb.db.rollback)
+
+
+def _record_gradebook_once(gb, result: dict) -> None:
     sid, assignment, notebook = result["student_id"], result["assignment"], result["notebook"]
     gb.update_or_create_student(sid)
     with warnings.catch_warnings():

@@ -2,7 +2,8 @@
 
 sanitize → execute in a sandbox → collect → verify run inside each work unit
 (``grader.pipeline.unit``); this module finds the units, runs them in a process
-pool, and records each result as it arrives (``grader.pipeline.record``).
+pool or on a Dask cluster (``grader.pipeline.distributed``), and records each
+result as it arrives, in this one process (``grader.pipeline.record``).
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ import os
 import secrets
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from collections.abc import Callable, Iterator
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,7 +28,7 @@ from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
 from grader.pipeline.sanitize import read_submission_bytes
 from grader.pipeline.submitted import student_folders
-from grader.pipeline.unit import UnitSpec, grade_unit, sha256_of, zero_result
+from grader.pipeline.unit import UnitSpec, grade_unit, load_submission, zero_result
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES, remove_stale_limits
 from grader.sandbox.workspace import remove_stale_workspaces
@@ -46,6 +48,8 @@ class GradeOptions:
     wall: float = 900.0  # seconds per notebook
     disk_bytes: int = DEFAULT_FILE_BYTES  # each student's workdir
     student: str | None = None  # grade only this student again; the others' results are read from OUT as they are
+    scheduler: str | None = None  # a Dask cluster: "tcp://HOST:PORT" or "local:N"; None: a local process pool
+    allow_unsandboxed: bool = False  # Dask workers without bubblewrap grade anyway (they refuse units otherwise)
 
 
 def _worker_init() -> None:
@@ -87,29 +91,57 @@ def ensure_sources(paths: CoursePaths, assignment: str) -> list[Path]:
 
 
 def ensure_gradebook(paths: CoursePaths, db_url: str, assignment: str) -> None:
-    """Make sure the gradebook knows the assignment (nbgrader's own generate_assignment does that)."""
-    from nbgrader.api import Gradebook, MissingEntry
+    """Make sure the gradebook knows the assignment (nbgrader's own generate_assignment does that).
 
-    with Gradebook(db_url) as gb:
-        try:
-            gb.find_assignment(assignment)
+    Two runs starting at once on one course (two TAs, one database) take turns:
+    a lock file in the course folder serializes them on this host, and a run
+    on another host that loses the race finds the assignment on its retry.
+    """
+    from nbgrader.api import MissingEntry
+
+    def known() -> bool:
+        with record.open_gradebook(db_url) as gb:
+            try:
+                gb.find_assignment(assignment)
+                return True
+            except MissingEntry:
+                return False
+
+    paths.course.mkdir(parents=True, exist_ok=True)
+    with open(paths.course / ".deformlab-gradebook.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if known():
             return
-        except MissingEntry:
-            pass
-    from grader.build.release import generate_assignment
+        from grader.build.release import ReleaseError, generate_assignment
 
-    generate_assignment(paths, assignment, db_url)
+        try:
+            generate_assignment(paths, assignment, db_url)
+        except ReleaseError:
+            if not known():
+                raise
 
 
 def _known_students(db_url: str) -> list[str]:
-    from nbgrader.api import Gradebook
-
-    with Gradebook(db_url) as gb:
+    with record.open_gradebook(db_url) as gb:
         return [s.id for s in gb.students]
 
 
-def plan_units(submitted: Path, sources: list[Path], seed: int, options: GradeOptions, paths: CoursePaths, roster: list[str]) -> list[UnitSpec]:
-    """One ``UnitSpec`` per student × notebook: students from the folder and from the gradebook's roster.
+@dataclass(frozen=True)
+class PlannedUnit:
+    """One student × notebook as found on this host (``unit_spec`` makes the self-contained ``UnitSpec``)."""
+
+    student_id: str
+    notebook: str
+    submission: Path | None
+    source: Path
+    notes: tuple[str, ...] = ()
+    #: False for a student of the gradebook's roster who has no folder in this run: such a row
+    #: is written to grades.csv but never over what another run recorded in the gradebook.
+    in_folder: bool = True
+
+
+def plan_units(submitted: Path, sources: list[Path], options: GradeOptions, roster: list[str]) -> list[PlannedUnit]:
+    """One unit per student × notebook: students from the folder and from the gradebook's roster.
 
     A student folder that is a link is not followed (its student gets a row saying so).
     """
@@ -119,34 +151,17 @@ def plan_units(submitted: Path, sources: list[Path], seed: int, options: GradeOp
         folder = folders.get(sid)
         for source in sources:
             notebook = source.stem
-            notes: list[str] = []
             path = None
             if folder is None:
-                notes.append("no submission folder for this student")
+                notes = ["no submission folder for this student"]
             elif folder.is_symlink():
-                notes.append("the submission folder is a link, which is not followed")
+                notes = ["the submission folder is a link, which is not followed"]
             else:
                 try:
                     path, notes = find_submission(folder / options.assignment, notebook)
                 except OSError as exc:  # an unreadable folder costs its own student only
-                    notes.append(f"cannot read the submission folder: {exc.strerror}")
-            units.append(
-                UnitSpec(
-                    student_id=sid,
-                    notebook=notebook,
-                    submission=str(path) if path else None,
-                    source=str(source),
-                    seed=seed,
-                    assignment=options.assignment,
-                    timeout=options.timeout,
-                    memory_bytes=int(options.memory_gb * 2**30),
-                    max_processes=options.max_processes,
-                    readonly=[str(paths.data), str(paths.starter)],
-                    notes=notes,
-                    wall=options.wall,
-                    disk_bytes=options.disk_bytes,
-                )
-            )
+                    notes = [f"cannot read the submission folder: {exc.strerror}"]
+            units.append(PlannedUnit(sid, notebook, path, source, tuple(notes), folder is not None))
     return units
 
 
@@ -165,6 +180,27 @@ def _lock_out(out: Path):
     return handle
 
 
+def unit_spec(unit: PlannedUnit, seed: int, options: GradeOptions, source_text: str) -> UnitSpec:
+    """The self-contained work unit: the submitted bytes are read here, on the recording host."""
+    content, digest, error = load_submission(unit.submission)
+    return UnitSpec(
+        student_id=unit.student_id,
+        notebook=unit.notebook,
+        submission=content,
+        source=source_text,
+        seed=seed,
+        assignment=options.assignment,
+        timeout=options.timeout,
+        memory_bytes=int(options.memory_gb * 2**30),
+        max_processes=options.max_processes,
+        notes=list(unit.notes),
+        submission_sha256=digest,
+        submission_error=error,
+        wall=options.wall,
+        disk_bytes=options.disk_bytes,
+    )
+
+
 def _run_seed(out: Path, requested: int | None) -> int:
     """A fresh seed per run, kept in ``OUT/run.json`` so re-running the same OUT is idempotent."""
     run_file = out / "run.json"
@@ -178,12 +214,12 @@ def _run_seed(out: Path, requested: int | None) -> int:
     return seed
 
 
-def _reusable(out: Path, unit: UnitSpec) -> dict | None:
+def _reusable(out: Path, unit: PlannedUnit, seed: int) -> dict | None:
     previous = record.load_unit(out, unit.student_id, unit.notebook)
     if (
         previous
-        and previous.get("seed") == unit.seed
-        and previous.get("submission_sha256") == (sha256_of(unit.submission) if unit.submission else None)
+        and previous.get("seed") == seed
+        and previous.get("submission_sha256") == read_submission_bytes(unit.submission)[1]
         and previous.get("status") != "grader-error"
     ):
         return previous | {"reused": True}
@@ -194,8 +230,10 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
     """Grade every student × notebook under ``submitted``; write ``out``.
 
     ``paths`` selects the course (its source notebooks, data/ and starter/);
-    default: this checkout. ``grade`` is the work unit (``grade_unit``; tests
-    pass a picklable stand-in to make a worker die).
+    default: the configured course (``grader.paths.course_paths``). Units run
+    in a local process pool, or on a Dask cluster when ``options.scheduler``
+    is set; either way this process records each result as it arrives. ``grade`` is the work unit of the
+    process pool (``grade_unit``; tests pass a picklable stand-in that makes a worker die).
 
     Returns
     -------
@@ -208,10 +246,16 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
         If ``submitted`` is not a folder.
     GradingInProgress
         If another run is writing into ``out``.
+    ValueError
+        If ``options.scheduler`` is malformed or names no reachable cluster.
     """
     submitted, out = Path(submitted), Path(out)
     if not submitted.is_dir():
         raise FileNotFoundError(f"SUBMITTED must be a folder of student folders: {submitted} is not a folder")
+    if options.scheduler:
+        from grader.pipeline.distributed import parse_scheduler
+
+        parse_scheduler(options.scheduler)  # a typo fails before anything is written
     out.mkdir(parents=True, exist_ok=True)
     with _lock_out(out):
         return _grade_class(submitted, out, options, paths, grade)
@@ -226,13 +270,14 @@ def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Cours
     sources = ensure_sources(paths, options.assignment)
     ensure_gradebook(paths, db_url, options.assignment)
     seed = _run_seed(out, options.seed)
-    units = plan_units(submitted, sources, seed, options, paths, _known_students(db_url))
+    units = plan_units(submitted, sources, options, _known_students(db_url))
+    source_texts = {s: s.read_text(encoding="utf-8") for s in sources}
     from grader.sandbox import bwrap_available
 
-    if not bwrap_available():
+    if not options.scheduler and not bwrap_available():
         print("warning: bubblewrap not available: grading without filesystem/network isolation", file=sys.stderr)
 
-    results: list[dict] = []
+    reused: list[tuple[PlannedUnit, dict]] = []
     todo = []
     if options.student is not None and options.student not in {u.student_id for u in units}:
         raise ValueError(f"--student {options.student!r}: no such student in {submitted} or the gradebook")
@@ -241,41 +286,42 @@ def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Cours
             previous = record.load_unit(out, unit.student_id, unit.notebook)
             if previous is None:
                 raise ValueError(f"--student regrades one student of an earlier run into {out}, which has no result for {unit.student_id} {unit.notebook}")
-            results.append(previous | {"reused": True})
+            reused.append((unit, previous | {"reused": True}))
             continue
-        previous = None if options.student is not None else _reusable(out, unit)
+        previous = None if options.student is not None else _reusable(out, unit, seed)
         if previous:
-            results.append(previous)
+            reused.append((unit, previous))
         else:
             todo.append(unit)
+    results = [r for _, r in reused]
 
-    from nbgrader.api import Gradebook
     from tqdm import tqdm
 
-    autograded = options.autograded or paths.course / "autograded"
-    workers = max(1, options.workers or os.cpu_count() or 1)
-    bar = tqdm(total=len(units), initial=len(results), desc="grading", unit="nb", disable=not options.progress, file=sys.stderr)
-    with Gradebook(db_url) as gb:
-        for r in results:
-            record.record_gradebook(gb, r)
-            record.append_log(out, r)
+    def spec_of(unit: PlannedUnit) -> UnitSpec:
+        return unit_spec(unit, seed, options, source_texts[unit.source])
 
-        def finish(result: dict) -> None:
-            _record(out, autograded, gb, result)
+    def error_of(unit: PlannedUnit, reason: str) -> dict:
+        return _grader_error(spec_of(unit), reason)
+
+    if options.scheduler:
+        from grader.pipeline.distributed import grade_on_dask
+
+        stream = grade_on_dask(todo, spec_of, error_of, options.scheduler, allow_unsandboxed=options.allow_unsandboxed)
+    else:
+        readonly = [str(paths.data), str(paths.starter)]
+        stream = grade_in_pool(todo, spec_of, error_of, max(1, options.workers or os.cpu_count() or 1), readonly, grade)
+
+    autograded = options.autograded or paths.course / "autograded"
+    bar = tqdm(total=len(units), initial=len(results), desc="grading", unit="nb", disable=not options.progress, file=sys.stderr)
+    with record.open_gradebook(db_url) as gb:
+        for unit, r in reused:
+            if unit.in_folder:
+                record.record_gradebook(gb, r)
+            record.append_log(out, r)
+        for unit, result in stream:
+            record_result(out, autograded, gb if unit.in_folder else None, result)
             results.append(result)
             bar.update(1)
-
-        while todo:
-            suspects = _grade_in_pool(todo, workers, grade, finish)
-            # A grading worker died (not a kernel: those are handled inside the unit). Only a unit the
-            # pool had handed out can have killed it: grade each of those alone, so that a culprit
-            # breaks only its own pool and its neighbours keep their grades.
-            for unit in suspects:
-                todo.remove(unit)
-                finish(_grade_alone(unit, grade))
-            if suspects:
-                remove_stale_workspaces()  # what the dead worker held (if older than a few seconds; else the next run)
-                remove_stale_limits()
     bar.close()
     record.write_grades_csv(out, results)
     record.compact_log(out)
@@ -288,57 +334,75 @@ def _pool(workers: int) -> ProcessPoolExecutor:
     return ProcessPoolExecutor(max_workers=workers, initializer=_worker_init, mp_context=multiprocessing.get_context("spawn"))
 
 
-def _grade_in_pool(todo: list[UnitSpec], workers: int, grade, finish) -> list[UnitSpec]:
-    """Grade ``todo`` in a pool, calling ``finish`` on each result and removing its unit from ``todo``.
+def grade_in_pool(
+    todo: list[PlannedUnit],
+    spec_of: Callable[[PlannedUnit], UnitSpec],
+    error_of: Callable[[PlannedUnit, str], dict],
+    workers: int,
+    readonly: list[str],
+    grade: Callable = grade_unit,
+) -> Iterator[tuple[PlannedUnit, dict]]:
+    """Grade ``todo`` in a local process pool; yield ``(unit, result)`` in order of completion.
 
-    Returns
-    -------
-    list of UnitSpec
-        Empty if the pool survived; else the units it had handed out and not finished when a
-        worker died (the pool hands out units in order, at most ``workers + 1`` ahead).
+    At most two units per worker are in flight, so the submitted bytes of a
+    large class are never all in memory. If a grading worker dies (not a
+    kernel: those are handled inside the unit), only a unit the pool held can
+    have killed it: each of those is graded again alone, in a pool of its own,
+    so that a culprit breaks only its own pool and its neighbours keep their grades.
     """
-    submitted = list(todo)
-    done = 0
-    with _pool(workers) as pool:
-        futures = {pool.submit(grade, u): u for u in submitted}
-        broken = False
-        for future in as_completed(futures):
-            unit = futures[future]
-            try:
-                result = future.result()
-            except BrokenProcessPool:
-                broken = True
-                continue
-            except Exception as exc:  # noqa: BLE001 - whatever one unit raised, the others are graded
-                result = _grader_error(unit, f"grader error: {type(exc).__name__}: {exc}")
-            todo.remove(unit)
-            done += 1
-            finish(result)
-    if not broken:
-        return []
-    return [u for u in submitted[: done + workers + 1] if u in todo]
+    remaining = dict(enumerate(todo))
+    while remaining:
+        queue = list(remaining)
+        suspects: list[int] = []
+        with _pool(workers) as pool:
+            pending: dict = {}
+            while queue or pending:
+                while queue and len(pending) < 2 * workers and not suspects:
+                    i = queue.pop(0)
+                    pending[pool.submit(grade, spec_of(remaining[i]), readonly)] = i
+                if not pending:
+                    break
+                done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for future in done:
+                    i = pending.pop(future)
+                    try:
+                        result = future.result()
+                    except BrokenProcessPool:
+                        suspects.append(i)
+                        continue
+                    except Exception as exc:  # noqa: BLE001 - whatever one unit raised, the others are graded
+                        result = error_of(remaining[i], f"grader error: {type(exc).__name__}: {exc}")
+                    yield remaining.pop(i), result
+        for i in suspects:
+            unit = remaining.pop(i)
+            yield unit, _grade_alone(unit, spec_of, error_of, readonly, grade)
+        if suspects:
+            remove_stale_workspaces()  # what the dead worker held (if older than a few seconds; else the next run)
+            remove_stale_limits()
 
 
-def _grade_alone(unit: UnitSpec, grade) -> dict:
+def _grade_alone(unit: PlannedUnit, spec_of, error_of, readonly: list[str], grade) -> dict:
     """Grade one unit in a pool of its own; if that pool breaks too, the unit is the culprit."""
     with _pool(1) as pool:
         try:
-            return pool.submit(grade, unit).result()
+            return pool.submit(grade, spec_of(unit), readonly).result()
         except BrokenProcessPool:
-            return _grader_error(unit, "the grading process died while checking this notebook's outputs; it scores 0 and your TA has been told")
+            return error_of(unit, "the grading process died while checking this notebook's outputs; it scores 0 and your TA has been told")
         except Exception as exc:  # noqa: BLE001
-            return _grader_error(unit, f"grader error: {type(exc).__name__}: {exc}")
+            return error_of(unit, f"grader error: {type(exc).__name__}: {exc}")
 
 
-def _grader_error(unit: UnitSpec, reason: str) -> dict:
-    source = nbformat.read(unit.source, as_version=4)
-    return zero_result(unit, source, "grader-error", reason, time.monotonic()) | {"feedback_html": None, "autograded_notebook": None}
+def _grader_error(spec: UnitSpec, reason: str) -> dict:
+    source = nbformat.reads(spec.source, as_version=4)
+    return zero_result(spec, source, "grader-error", reason, time.monotonic()) | {"feedback_html": None, "autograded_notebook": None}
 
 
-def _record(out: Path, autograded: Path, gb, result: dict) -> None:
+def record_result(out: Path, autograded: Path, gb, result: dict) -> None:
+    """Record one unit: feedback page, executed notebook, gradebook (unless ``gb`` is None), unit file, log line."""
     record.write_feedback(out, result)
     record.write_autograded(autograded, result)
-    record.record_gradebook(gb, result)
+    if gb is not None:
+        record.record_gradebook(gb, result)
     record.save_unit(out, result)
     record.append_log(out, result)
 

@@ -105,14 +105,26 @@ def _released_source(cell) -> str:
 
 
 def read_submission(path: Path) -> nbformat.NotebookNode:
-    """Read a submitted file as a v4 notebook.
+    """Read a submitted file as a v4 notebook (:func:`read_submission_bytes`, then :func:`parse_submission`).
 
     Raises
     ------
     SubmissionError
         If the file is unreadable, too large, nested too deeply, or not a notebook.
     """
-    data = read_submission_bytes(Path(path))
+    return parse_submission(read_submission_bytes(Path(path)))
+
+
+def parse_submission(data: bytes) -> nbformat.NotebookNode:
+    """Parse a submitted file's bytes as a v4 notebook.
+
+    Raises
+    ------
+    SubmissionError
+        If the bytes are too many, nested too deeply, or not a notebook.
+    """
+    if len(data) > MAX_NOTEBOOK_BYTES:
+        raise SubmissionError(f"the notebook is over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
     try:
         raw = json.loads(data.decode("utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:

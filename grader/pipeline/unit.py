@@ -1,9 +1,11 @@
 """One work unit: one student × one notebook, from file to verdicts.
 
-``grade_unit`` is a pure function of its inputs (paths, seed, options) that
-returns a JSON-serializable dict, so it can run in a process pool here, or as a
-task of a distributed engine (Dask, Ray, Celery) with the same code: the engine
-ships a ``UnitSpec`` and receives the dict; recording stays in one place.
+``grade_unit`` is a pure function of a self-contained ``UnitSpec`` (the
+submitted bytes, the instructor notebook's text, seed, assignment, limits: no
+host paths) that returns a JSON-serializable dict, so it runs the same in a
+process pool here or as a task on another machine of a Dask cluster
+(``grader.pipeline.distributed``): the engine ships a ``UnitSpec`` and receives
+the dict; recording stays in one process (``grader.pipeline.record``).
 """
 
 from __future__ import annotations
@@ -19,12 +21,13 @@ from pathlib import Path
 import nbformat
 
 from grader.harness.fixtures import write_fixtures
+from grader.paths import course_paths
 from grader.harness.outputs import OutputError, read_outputs
 from grader.pipeline.execute import ExecuteOptions, execute
 from grader.pipeline.feedback import feedback_html
 from grader.pipeline.guard import GraderLimitExceeded, grader_limits, peak_rss_bytes, reset_peak_rss
 from grader.pipeline.neutralize import neutralize
-from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
+from grader.pipeline.sanitize import SubmissionError, parse_submission, read_submission_bytes, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, verify
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.report.digest import output_digest
@@ -34,7 +37,7 @@ from grader.sandbox.workspace import workspace
 
 @dataclass
 class UnitSpec:
-    """Everything one work unit needs, all plain data.
+    """Everything one work unit needs, all plain data (no host paths).
 
     Attributes
     ----------
@@ -42,12 +45,17 @@ class UnitSpec:
         Exactly as the submission folder is named.
     notebook : str
         File stem of the assignment's notebook, e.g. ``03_arap``.
-    submission : str or None
-        Path of the submitted file; None if the student submitted none.
+    submission : bytes or None
+        The submitted file's content; None if the student submitted none or
+        ``submission_error`` says why it was not read.
     source : str
-        Path of the instructor (source) notebook.
+        The instructor (source) notebook, as JSON text.
     seed : int
         Seed of the run's hidden inputs.
+    submission_sha256 : str or None
+        Hash of the submitted file (identifies it when a re-run reuses results).
+    submission_error : str or None
+        Why the submitted file was not shipped (too large, unreadable).
     disk_bytes : int
         Size of the student's workdir (a tmpfs where the grader may mount one).
     wall : float
@@ -56,32 +64,39 @@ class UnitSpec:
 
     student_id: str
     notebook: str
-    submission: str | None
+    submission: bytes | None
     source: str
     seed: int
     assignment: str = "deformation"
     timeout: float = 60.0
     memory_bytes: int = 4 * 2**30
     max_processes: int | None = DEFAULT_MAX_PROCESSES
-    readonly: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    submission_sha256: str | None = None
+    submission_error: str | None = None
     disk_bytes: int = DEFAULT_FILE_BYTES
     wall: float = 900.0
 
 
-def sha256_of(path: str | Path) -> str | None:
-    """SHA-256 of a submitted file, read in chunks and never through a link; None if unreadable."""
-    digest = hashlib.sha256()
+def load_submission(path: str | Path | None) -> tuple[bytes | None, str | None, str | None]:
+    """``(content, sha256, error)`` of a submitted file, read where the submissions are (the recording host).
+
+    The file is the student's: it is read without following links, only if it
+    is a regular file within ``MAX_NOTEBOOK_BYTES``; ``error`` says why not.
+    """
+    if path is None:
+        return None, None, None
     try:
-        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
-    except OSError:
-        return None
-    with os.fdopen(fd, "rb") as fh:
-        if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
-            return None
-        while chunk := fh.read(2**20):
-            digest.update(chunk)
-    return digest.hexdigest()
+        content = read_submission_bytes(Path(path))
+    except SubmissionError as exc:
+        return None, None, str(exc)
+    return content, hashlib.sha256(content).hexdigest(), None
+
+
+def course_readonly() -> list[str]:
+    """What a kernel may read of this machine's course kit: ``data/`` and the ``starter/`` package."""
+    paths = course_paths()
+    return [str(paths.data), str(paths.starter)]
 
 
 def zero_result(spec: UnitSpec, source: nbformat.NotebookNode, status: str, reason: str, started: float) -> dict:
@@ -104,15 +119,22 @@ def _result(spec: UnitSpec, status: str, tests: list[dict], reasons: list[str], 
         "tests": tests,
         "reasons": reasons,
         "seed": spec.seed,
-        "submission_sha256": sha256_of(spec.submission) if spec.submission else None,
+        "submission_sha256": spec.submission_sha256,
         "duration_s": round(time.monotonic() - started, 3),
         "grader_peak_rss_bytes": peak_rss_bytes(),  # the grading process's own peak over this unit
         **extra,
     }
 
 
-def grade_unit(spec: UnitSpec) -> dict:
+def grade_unit(spec: UnitSpec, readonly: list[str] | None = None) -> dict:
     """Grade one submitted notebook. Never raises for anything the student did.
+
+    Parameters
+    ----------
+    spec : UnitSpec
+    readonly : list of str, optional
+        Host paths the kernel may read (the course's ``data/`` and ``starter/``);
+        default: those of the course kit on the machine that runs the unit.
 
     Returns
     -------
@@ -123,32 +145,29 @@ def grade_unit(spec: UnitSpec) -> dict:
     """
     started = time.monotonic()
     reset_peak_rss()
-    source = nbformat.read(spec.source, as_version=4)
+    source = nbformat.reads(spec.source, as_version=4)
+    if spec.submission_error is not None:
+        return _ungraded(spec, source, "invalid", spec.submission_error, started)
     if spec.submission is None:
-        return zero_result(spec, source, "missing", f"no {spec.notebook}.ipynb was submitted", started) | {
-            "feedback_html": feedback_html(spec, [], [f"No {spec.notebook}.ipynb was submitted."]),
-            "autograded_notebook": None,
-        }
+        return _ungraded(spec, source, "missing", f"no {spec.notebook}.ipynb was submitted", started,
+                         shown=f"No {spec.notebook}.ipynb was submitted.")
     try:
-        sanitized = sanitize(read_submission(Path(spec.submission)), source)
+        sanitized = sanitize(parse_submission(spec.submission), source)
     except SubmissionError as exc:
-        return zero_result(spec, source, "invalid", str(exc), started) | {
-            "feedback_html": feedback_html(spec, [], [str(exc)]),
-            "autograded_notebook": None,
-        }
+        return _ungraded(spec, source, "invalid", str(exc), started)
     except Exception as exc:  # noqa: BLE001 - the grader's own failure on this file: this row says so
         return _grader_error(spec, source, exc, started)
-
-    cells = graded_cells(source)
+    readonly = course_readonly() if readonly is None else readonly
     try:
         with workspace(spec.disk_bytes) as ws:
-            return _grade_in(ws, spec, source, sanitized, cells, started)
+            return _grade_in(ws, spec, source, sanitized, readonly, started)
     except Exception as exc:  # noqa: BLE001 - the grader's own failure: this row says so, the run goes on
         return _grader_error(spec, source, exc, started)
 
 
-def _grade_in(ws, spec: UnitSpec, source, sanitized, cells, started: float) -> dict:
+def _grade_in(ws, spec: UnitSpec, source, sanitized, readonly: list[str], started: float) -> dict:
     """Steps 2–5 of one unit inside its workspace ``ws``."""
+    cells = graded_cells(source)
     workdir = ws.work
     fixtures, outputs = workdir / "fixtures", workdir / "outputs"
     outputs.mkdir()
@@ -171,7 +190,7 @@ def _grade_in(ws, spec: UnitSpec, source, sanitized, cells, started: float) -> d
             wall=spec.wall,
             memory_bytes=spec.memory_bytes,
             max_processes=spec.max_processes,
-            readonly=[Path(p) for p in spec.readonly],
+            readonly=[Path(p) for p in readonly],
             runtime_root=ws.kernels,
         ),
     )
@@ -182,7 +201,9 @@ def _grade_in(ws, spec: UnitSpec, source, sanitized, cells, started: float) -> d
                           "score": 0.0, "summary": broken[cell.function], "cases": []})
             continue
         result, collected = _verified(cell.function, spec.seed, outputs, run.collection_failures.get(cell.function))
-        results.append((cell, result, collected))
+        # Pictures only where a case failed: a passing function's picture tells its student
+        # nothing new, and drawing it cost as much CPU as the rest of the unit.
+        results.append((cell, result, collected if result.fraction < 1 else None))
         tests.append(
             {
                 "grade_id": cell.grade_id,
@@ -255,6 +276,14 @@ def _wrong_output_digest(case, collected, k: int) -> str | None:
     if case.passed or collected is None or k >= len(collected.cases) or collected.cases[k].error is not None:
         return None
     return output_digest(collected.cases[k].value) or None
+
+
+def _ungraded(spec: UnitSpec, source: nbformat.NotebookNode, status: str, reason: str, started: float, shown: str | None = None) -> dict:
+    """Zero on every cell, the reason on the feedback page, no executed notebook."""
+    return zero_result(spec, source, status, reason, started) | {
+        "feedback_html": feedback_html(spec, [], [shown or reason]),
+        "autograded_notebook": None,
+    }
 
 
 def _grader_error(spec: UnitSpec, source: nbformat.NotebookNode, exc: BaseException, started: float) -> dict:

@@ -24,23 +24,6 @@ def tmp_path():
     shutil.rmtree(path, ignore_errors=True)
 
 
-@pytest.fixture(scope="session")
-def private_course(source_notebooks, repo_root):
-    """Make a course root whose assignments/ is private to a test; data/, starter/, notebooks/ are the checkout's."""
-
-    def make(tmp: Path) -> Path:
-        root = tmp / "course"
-        source = root / "assignments" / "source" / "deformation"
-        source.mkdir(parents=True)
-        for name in ("data", "starter", "notebooks"):
-            (root / name).symlink_to(repo_root / name)
-        for path in source_notebooks.values():
-            shutil.copy(path, source / path.name)
-        return root
-
-    return make
-
-
 @pytest.fixture(autouse=True)
 def collect_kernel_leftovers():
     """Finalize kernel clients between tests, never inside a later ``ast.parse``.
@@ -89,3 +72,27 @@ def started(host_cmdlines):
         return True
 
     return wait
+
+
+@pytest.fixture(scope="session")
+def make_course(source_notebooks):
+    """``make_course(folder) -> Path``: a course kit whose ``assignments/`` is private to the test.
+
+    ``data/``, ``starter/`` and ``notebooks/`` are the checkout's (symlinked); the
+    instructor notebooks and ``nbgrader_config.py`` are copied, so grading builds
+    nothing and writes nothing into the checkout.
+    """
+    checkout = Path(__file__).resolve().parents[2]
+
+    def make(folder: Path) -> Path:
+        root = Path(folder) / "course"
+        source = root / "assignments" / "source" / "deformation"
+        source.mkdir(parents=True)
+        for name in ("data", "starter", "notebooks"):
+            (root / name).symlink_to(checkout / name)
+        for path in source_notebooks.values():
+            shutil.copy(path, source / path.name)
+        shutil.copy(checkout / "assignments" / "nbgrader_config.py", root / "assignments")
+        return root
+
+    return make

@@ -149,7 +149,7 @@ def _processes_with(text: str) -> list[int]:
 
 
 @pytest.fixture(scope="module")
-def graded(source_notebooks, tmp_path_factory, private_course) -> Iterator[Graded]:
+def graded(tmp_path_factory, make_course) -> Iterator[Graded]:
     tmp = tmp_path_factory.mktemp("corpus")
     listener = Listener()
     token = secrets.token_hex(6)
@@ -159,7 +159,7 @@ def graded(source_notebooks, tmp_path_factory, private_course) -> Iterator[Grade
         "DISK_BYTES": str(DISK_BYTES), "WALL": str(WALL),
     }
     before = _host_leftovers()
-    root = private_course(tmp)
+    root = make_course(tmp)
     submitted = tmp / "submitted"
     for entry in ENTRIES:
         build_submission(entry, root / "assignments" / "source" / "deformation", submitted, student_id(entry), params)

@@ -29,9 +29,9 @@ def _options(tmp_path, **kw):
     return GradeOptions(workers=2, db_url=f"sqlite:///{tmp_path}/gb.db", seed=3, progress=False, **kw)
 
 
-def test_a_worker_killed_mid_unit_costs_only_the_culprit_and_every_unit_is_recorded_once(tmp_path, submitted, private_course):
+def test_a_worker_killed_mid_unit_costs_only_the_culprit_and_every_unit_is_recorded_once(tmp_path, submitted, make_course):
     out = tmp_path / "out"
-    paths = CoursePaths(private_course(tmp_path))
+    paths = CoursePaths(make_course(tmp_path))
     results = grade_class(submitted, out, _options(tmp_path), paths, grade=kills_its_worker_for_the_culprit)
     rows = list(csv.DictReader(open(out / "grades.csv")))
     assert len(rows) == len({(r["student_id"], r["notebook"]) for r in rows}) == len(STUDENTS) * len({r["notebook"] for r in rows})

@@ -1,0 +1,196 @@
+"""Grading on a Dask cluster: units run on other machines, results come back here.
+
+``deformlab grade … --scheduler tcp://HOST:8786`` submits every unit to a
+``dask.distributed`` scheduler; ``--scheduler local:N`` starts a cluster of N
+worker processes on this machine. A ``UnitSpec`` is self-contained (submitted
+bytes, instructor notebook, seed, limits), so a worker needs only the installed
+kit; each worker still runs every notebook in its own sandbox and refuses units
+when it has no bubblewrap, unless the TA opts out (``--allow-unsandboxed``).
+Results stream back in order of completion (``as_completed``) to the one process
+that records them (``grader.pipeline.run``). A worker that dies mid-unit costs
+nothing: the scheduler runs its units again elsewhere, and only a unit that kills
+workers repeatedly is recorded as a grader error.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import re
+import sys
+import uuid
+from collections.abc import Callable, Iterator
+
+from grader.pipeline.unit import UnitSpec, grade_unit
+
+_TCP = re.compile(r"^(tcp|tls)://[^\s/:]+:\d{1,5}$")
+_LOCAL = re.compile(r"^local:(\d+)$")
+#: Units in flight per worker thread: enough to keep workers busy between results,
+#: few enough that a class's submitted bytes never sit all in this process's memory.
+IN_FLIGHT_PER_THREAD = 3
+NO_SANDBOX = (
+    "no Dask worker can sandbox notebooks (bubblewrap missing or unable to create namespaces there): "
+    "install bubblewrap on the workers, or pass --allow-unsandboxed to grade without isolation"
+)
+
+
+class SandboxUnavailable(RuntimeError):
+    """Raised by a worker that has no working bubblewrap and was not told to grade without it."""
+
+    def __init__(self, worker: str):
+        super().__init__(f"worker {worker} has no working bubblewrap sandbox")
+        self.worker = worker
+
+
+def parse_scheduler(text: str) -> tuple[str, int | None]:
+    """``("tcp://HOST:PORT", None)`` or ``("local", N)``.
+
+    Raises
+    ------
+    ValueError
+        If ``text`` is neither ``tcp://HOST:PORT`` (or ``tls://``) nor ``local:N`` with N ≥ 1.
+    """
+    if _TCP.match(text):
+        return text, None
+    local = _LOCAL.match(text)
+    if local and int(local.group(1)) >= 1:
+        return "local", int(local.group(1))
+    raise ValueError(f"--scheduler must be tcp://HOST:PORT (a running `dask scheduler`) or local:N (N ≥ 1 worker processes here), got {text!r}")
+
+
+def _sandbox_ready(allow_unsandboxed: bool) -> bool:
+    from grader.sandbox import bwrap_available
+
+    return allow_unsandboxed or bwrap_available()
+
+
+def grade_unit_on_worker(spec: UnitSpec, allow_unsandboxed: bool = False) -> dict:
+    """The Dask task: ``grade_unit`` in this worker's sandbox, with the course kit installed here.
+
+    Raises
+    ------
+    SandboxUnavailable
+        If this worker cannot sandbox notebooks and ``allow_unsandboxed`` is False.
+    """
+    from distributed import get_worker
+
+    from grader.pipeline.run import _worker_init
+
+    if not _sandbox_ready(allow_unsandboxed):
+        raise SandboxUnavailable(get_worker().address)
+    _worker_init()
+    _sweep_once()
+    return grade_unit(spec)
+
+
+@functools.cache
+def _sweep_once() -> None:
+    """What a killed grader left on this machine (work folders with hidden inputs, cgroups): once per worker process."""
+    from grader.sandbox.process_limit import remove_stale_limits
+    from grader.sandbox.workspace import remove_stale_workspaces
+
+    remove_stale_workspaces()
+    remove_stale_limits()
+
+
+def connect(scheduler: str):
+    """A ``distributed.Client`` on the cluster ``scheduler`` names, and the local cluster to close (or None)."""
+    address, n_local = parse_scheduler(scheduler)
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise ValueError('--scheduler needs Dask: pip install "deformlab[dask]" (with -c constraints.txt)') from None
+    if n_local is not None:
+        # One thread per worker process: a unit is one kernel; N processes grade N notebooks at once.
+        cluster = LocalCluster(n_workers=n_local, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None)
+        return Client(cluster), cluster
+    try:
+        return Client(address, timeout="20s"), None
+    except (OSError, TimeoutError) as exc:
+        raise ValueError(f"cannot reach the Dask scheduler at {address}: {exc}") from None
+
+
+def grade_on_dask(
+    todo: list,
+    spec_of: Callable[[object], UnitSpec],
+    error_of: Callable[[object, str], dict],
+    scheduler: str,
+    allow_unsandboxed: bool = False,
+) -> Iterator[tuple[object, dict]]:
+    """Grade ``todo`` on the cluster; yield ``(unit, result)`` in order of completion.
+
+    Parameters
+    ----------
+    todo : list
+        Planned units (``grader.pipeline.run.PlannedUnit``).
+    spec_of : callable
+        ``unit -> UnitSpec``; called just before the unit is submitted.
+    error_of : callable
+        ``(unit, reason) -> result`` of a unit the cluster could not grade.
+    scheduler : str
+        ``tcp://HOST:PORT`` or ``local:N``.
+    """
+    from distributed import as_completed
+    from distributed.scheduler import KilledWorker
+
+    client, cluster = connect(scheduler)
+    try:
+        ready = client.run(_sandbox_ready, allow_unsandboxed)
+        refusing = {w for w, ok in ready.items() if not ok}
+        if refusing:
+            print(f"warning: {len(refusing)} Dask worker(s) without bubblewrap get no units: {', '.join(sorted(refusing))}", file=sys.stderr)
+        queue = list(todo)
+        units: dict = {}
+        stream = as_completed()
+
+        def allowed() -> list[str] | None:
+            if not refusing:
+                return None
+            return [w for w in client.nthreads() if w not in refusing]
+
+        def submit(unit) -> bool:
+            workers = allowed()
+            if workers == []:
+                return False
+            future = client.submit(
+                grade_unit_on_worker,
+                spec_of(unit),
+                allow_unsandboxed,
+                key=f"grade-{unit.student_id}-{unit.notebook}-{uuid.uuid4().hex}",
+                workers=workers,
+                allow_other_workers=False,
+            )
+            units[future] = unit
+            stream.add(future)
+            return True
+
+        def refill() -> Iterator[tuple[object, dict]]:
+            limit = IN_FLIGHT_PER_THREAD * max(1, sum(client.nthreads().values()))
+            while queue and len(units) < limit:
+                unit = queue.pop(0)
+                if not submit(unit):
+                    yield unit, error_of(unit, NO_SANDBOX)
+
+        yield from refill()
+        for future in stream:
+            unit = units.pop(future)
+            try:
+                result = future.result()
+            except SandboxUnavailable as exc:
+                refusing.add(exc.worker)
+                print(f"warning: Dask worker {exc.worker} has no bubblewrap: it gets no more units", file=sys.stderr)
+                if not submit(unit):
+                    yield unit, error_of(unit, NO_SANDBOX)
+                continue
+            except KilledWorker:
+                result = error_of(unit, "Dask workers died repeatedly while grading this notebook")
+            except Exception as exc:  # noqa: BLE001 - whatever one unit raised, the others are graded
+                result = error_of(unit, f"grader error: {type(exc).__name__}: {exc}")
+            finally:
+                future.release()
+            yield unit, result
+            yield from refill()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
