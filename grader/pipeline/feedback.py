@@ -155,7 +155,7 @@ def feedback_html(spec, results: list, notes: list[str]) -> str:
     The page keeps a ``<!-- late -->`` mark below the score, where
     ``grader.late_policy`` puts the late line once a due date is applied.
     """
-    source = nbformat.read(spec.source, as_version=4)
+    source = nbformat.reads(spec.source, as_version=4)
     max_score = sum(cell.points for cell in graded_cells(source))
     manual = [
         ((c.metadata.get("nbgrader") or {}).get("grade_id", ""), float((c.metadata.get("nbgrader") or {}).get("points") or 0))

@@ -219,7 +219,7 @@ def _reusable(out: Path, unit: PlannedUnit, seed: int) -> dict | None:
     if (
         previous
         and previous.get("seed") == seed
-        and previous.get("submission_sha256") == read_submission_bytes(unit.submission)[1]
+        and previous.get("submission_sha256") == load_submission(unit.submission)[1]
         and previous.get("status") != "grader-error"
     ):
         return previous | {"reused": True}

@@ -8,17 +8,15 @@ import nbformat
 import pytest
 
 from grader.corpus import student_notebook
-from grader.pipeline.unit import UnitSpec, grade_unit
+from grader.pipeline.unit import UnitSpec, grade_unit, load_submission
 
 NOTEBOOK = "04_bbw"
 
 
 def spec(source_notebooks, submission, student_id="ada", notebook=NOTEBOOK):
-    from grader.paths import course_paths
-
-    paths = course_paths()
-    return UnitSpec(student_id=student_id, notebook=notebook, submission=submission and str(submission),
-                    source=str(source_notebooks[notebook]), seed=11, timeout=60, readonly=[str(paths.data), str(paths.starter)])
+    content, digest, error = load_submission(submission)
+    return UnitSpec(student_id=student_id, notebook=notebook, submission=content, source=source_notebooks[notebook].read_text(),
+                    seed=11, timeout=60, submission_sha256=digest, submission_error=error)
 
 
 def max_score(source_notebooks, notebook=NOTEBOOK):
