@@ -256,6 +256,19 @@ def build_submission(
     return target
 
 
+def teaching_cell(notebook: str, function: str) -> str:
+    """The notebook's teaching solution of ``function`` as a student would hand it in (markers removed).
+
+    Buggy entries start from it and change one thing, as a student who followed
+    the notebook would get one thing wrong.
+    """
+    from grader.build.authored import read_authored
+
+    path = Path(__file__).resolve().parents[1] / "notebooks" / "deformation" / f"{notebook}.py"
+    cell = next(c for c in read_authored(path).cells if c.kind == "solution" and c.function == function)
+    return _MARKER_LINE.sub("", cell.source)
+
+
 def student_id(entry: CorpusEntry) -> str:
     """The entry's student id: its name, in Mixed_Case for hostile entries (ids are case-sensitive folder names)."""
     if entry.kind == "hostile":

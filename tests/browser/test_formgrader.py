@@ -170,7 +170,7 @@ def test_the_class_was_graded_with_every_attacker_scored_as_an_honest_student(co
 def test_opening_an_attackers_submission_in_formgrader_runs_none_of_its_scripts(course, formgrader, browser, workdir,
                                                                                 report_summary, monkeypatch):
     import grader.pipeline.unit as unit
-    from grader.pipeline.run import GradeOptions, plan_units
+    from grader.pipeline.run import GradeOptions, plan_units, unit_spec
 
     started = time.monotonic()
     log_in(browser, formgrader)
@@ -190,10 +190,11 @@ def test_opening_an_attackers_submission_in_formgrader_runs_none_of_its_scripts(
     # Positive control: the same notebooks executed without neutralize, where formgrader reads them.
     monkeypatch.setattr(unit, "neutralize", lambda nb, source: [])
     monkeypatch.setenv("DEFORMLAB_ROOT", str(course.paths.root))
-    specs = {u.student_id: u for u in plan_units(course.submitted, course.paths.source_notebooks(), SEED,
-                                                  GradeOptions(timeout=10), course.paths, [])}
+    options = GradeOptions(timeout=10)
+    planned = {u.student_id: u for u in plan_units(course.submitted, course.paths.source_notebooks(), options, [])}
     for sid in attackers:
-        raw = unit.grade_unit(specs[sid])
+        raw = unit.grade_unit(unit_spec(planned[sid], SEED, options, planned[sid].source.read_text()),
+                              [str(course.paths.data), str(course.paths.starter)])
         course.autograded(sid).write_text(raw["autograded_notebook"])
         dialogs, _, shot = open_as_ta(browser, formgrader, course.db_url, sid, workdir, "control")
         after = gradebook(course.db_url)

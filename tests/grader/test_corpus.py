@@ -38,9 +38,9 @@ CAPPED = pids_parent() is not None
 ENTRIES = [e for e in _ALL_ENTRIES if CAPPED or not e.needs_process_cap]
 LEFT_OUT = sorted(e.name for e in _ALL_ENTRIES if e not in ENTRIES)
 SEED = 20240611
-# Small limits, so that the attacks on them are quick: a 45 s notebook and a 256 MiB workdir.
+# Small limits, so that the attacks on them are quick: a 45 s notebook and a 512 MiB workdir.
 WALL = 45.0
-DISK_BYTES = 256 * 2**20
+DISK_BYTES = 512 * 2**20
 
 pytestmark = [
     pytest.mark.slow,

@@ -26,9 +26,13 @@ def max_score(source_notebooks, notebook=NOTEBOOK):
 
 
 @pytest.fixture(scope="module")
-def correct_page(source_notebooks, tmp_path_factory):
+def buggy_page(source_notebooks, tmp_path_factory, repo_root):
+    """A bbw that forgets to normalize: pictures are drawn for the functions that lost points only."""
+    from grader.corpus import load_entry
+
+    entry = load_entry(repo_root / "tests" / "corpus" / "buggy" / "bbw_not_normalized.py")
     path = tmp_path_factory.mktemp("bbw") / f"{NOTEBOOK}.ipynb"
-    nbformat.write(student_notebook(nbformat.read(source_notebooks[NOTEBOOK], as_version=4), {}), path)
+    nbformat.write(student_notebook(nbformat.read(source_notebooks[NOTEBOOK], as_version=4), entry.solutions), path)
     return grade_unit(spec(source_notebooks, path))
 
 
@@ -69,9 +73,9 @@ def png_size(b64):
 
 
 @pytest.mark.slow
-def test_pictures_are_large_labeled_and_described(correct_page):
-    page = correct_page["feedback_html"]
-    assert correct_page["score"] == correct_page["max_score"] > 0
+def test_pictures_are_large_labeled_and_described(buggy_page):
+    page = buggy_page["feedback_html"]
+    assert 0 < buggy_page["score"] < buggy_page["max_score"]
     figures = re.findall(r'<figure>\s*<img src="data:image/png;base64,([^"]+)" alt="([^"]+)">\s*<figcaption>([^<]+)</figcaption>', page)
     assert figures, "a bbw page shows the weights"
     for b64, alt, caption in figures:

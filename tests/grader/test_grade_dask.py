@@ -185,7 +185,7 @@ def test_a_local_cluster_grades_every_unit(course, tmp_path, source_notebooks):
     submitted = tmp_path / "submitted"
     (submitted / "ada" / "deformation").mkdir(parents=True)
     (submitted / "ada" / "deformation" / "01_shape_matching.ipynb").write_text("{not json")
-    (submitted / "bob").mkdir()
+    (submitted / "bob" / "deformation").mkdir(parents=True)  # a student who handed in nothing
     run = subprocess.run(
         [str(BIN / "deformlab"), "--course", str(root), "grade", str(submitted), "--out", str(tmp_path / "out"),
          "--db", f"sqlite:///{tmp_path}/gb.db", "--seed", "1", "--scheduler", "local:2"],

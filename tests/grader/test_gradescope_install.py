@@ -20,7 +20,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from grader.corpus import student_notebook
+from grader.corpus import load_entry, student_notebook
 from grader.gradescope import build_autograder_zip
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(900)]
@@ -72,14 +72,18 @@ def test_setup_and_run_autograder_grade_a_submission_with_a_non_editable_install
                                capture_output=True, text=True, cwd="/", env=env)
     assert "site-packages" in installed.stdout and str(source / "grader") not in installed.stdout, installed.stdout
     (root / "submission").mkdir()
-    nb = student_notebook(nbformat.read(source_notebooks["04_bbw"], as_version=4), {})
+    # bbw forgets to normalize: the other functions earn every point, and bbw's failure comes with pictures
+    buggy = load_entry(Path(__file__).resolve().parents[1] / "corpus" / "buggy" / "bbw_not_normalized.py")
+    nb = student_notebook(nbformat.read(source_notebooks["04_bbw"], as_version=4), buggy.solutions)
     nbformat.write(nb, root / "submission" / "04_bbw.ipynb")
     run = subprocess.run([str(source / "run_autograder")], capture_output=True, text=True, env=env, cwd="/")
     assert run.returncode == 0, run.stderr[-3000:]
     results = json.loads((root / "results" / "results.json").read_text())
     bbw = [t for t in results["tests"] if t["name"].startswith("04_bbw")]
-    assert bbw and all(t["score"] == t["max_score"] > 0 for t in bbw), [t["output"][:300] for t in bbw if t["score"] < t["max_score"]]
+    lost = [t for t in bbw if t["score"] < t["max_score"]]
+    assert bbw and all(t["max_score"] > 0 for t in bbw)
+    assert len(lost) == 1 and lost[0]["name"].endswith("bbw"), [(t["name"], t["output"][:300]) for t in lost]
     assert "no DeformLab data folder found" not in json.dumps(results)
     assert results["extra_data"]["seed"] == 31337
-    assert results["output_format"] == "html" and results["output"].count("<img ") >= 1 and " alt=" in results["output"]
+    assert results["output_format"] == "html" and results["output"].count("<img ") >= 1 and " alt=" in results["output"], results["output"][:500]
     shutil.rmtree(root, ignore_errors=True)

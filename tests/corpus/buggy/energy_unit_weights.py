@@ -16,4 +16,5 @@ def arap_energy(V, U, F, C, R):
     return total
 ''',
 }
-LOSES = {"arap_energy"}
+# the notebook's arap_solve reports the student's own energies
+LOSES = {"arap_energy", "arap_solve"}

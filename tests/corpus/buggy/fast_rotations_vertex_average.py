@@ -1,3 +1,5 @@
+from grader.corpus import teaching_cell
+
 NOTEBOOK = "06_fast"
 DESCRIPTION = "fast_rotations() takes every vertex's own best rotation and projects each cluster's average rotation, instead of the rotation of the cluster's summed covariance"
 SOLUTIONS = {
@@ -21,5 +23,10 @@ def fast_rotations(data, T):
     return optimal_rotation(mean.transpose(0, 2, 1))
 ''',
 }
+# This student's precompute keeps the mesh, weights and clusters too (the notebook's keeps only what its steps use).
+_PRECOMPUTE = teaching_cell(NOTEBOOK, "fast_precompute")
+_RETURN = "return types.SimpleNamespace("
+assert _RETURN in _PRECOMPUTE, "the teaching fast_precompute changed: update this entry"
+SOLUTIONS["fast_precompute"] = _PRECOMPUTE.replace(_RETURN, _RETURN + "V=V, F=F, C=C, W=W, clusters=clusters, ")
 # the solve iterates with these rotations; a global step after a solve does not depend on the solve
 LOSES = {"fast_rotations", "fast_solve"}

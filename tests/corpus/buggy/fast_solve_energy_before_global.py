@@ -5,7 +5,7 @@ SOLUTIONS = {
 
 
 def fast_solve(data, fixed_transforms, T0=None, iterations=10):
-    d, m = data.V.shape[1], data.W.shape[1]
+    d, m = data.d, data.m
     T = np.tile(np.eye(d, d + 1), (m, 1, 1)) if T0 is None else np.array(T0, dtype=float)
     T[data.fixed] = fixed_transforms
     energies = []

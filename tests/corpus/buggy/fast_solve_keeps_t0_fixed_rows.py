@@ -5,7 +5,7 @@ SOLUTIONS = {
 
 
 def fast_solve(data, fixed_transforms, T0=None, iterations=10):
-    d, m = data.V.shape[1], data.W.shape[1]
+    d, m = data.d, data.m
     if T0 is None:
         T = np.tile(np.eye(d, d + 1), (m, 1, 1))
         T[data.fixed] = fixed_transforms

@@ -9,7 +9,8 @@ import scipy.sparse.linalg as spla
 def arap_global_step(data, R, handle_positions):
     n, d = data.V.shape
     R = np.asarray(R, dtype=float)
-    L = sp.coo_matrix(data.L)
+    L_full = cotangent_laplacian(data.V, data.F)
+    L = sp.coo_matrix(L_full)
     off = L.row != L.col
     i, j, w = L.row[off], L.col[off], L.data[off]
     spokes = 0.5 * w[:, None] * np.einsum("kab,kb->ka", R[i] + R[j], data.V[i] - data.V[j])
@@ -17,7 +18,7 @@ def arap_global_step(data, R, handle_positions):
     np.add.at(b, i, spokes)
     U = np.empty((n, d))
     U[data.handles] = handle_positions
-    L_free = sp.csr_matrix(data.L)[data.free]
+    L_free = sp.csr_matrix(L_full)[data.free]
     rhs = b[data.free] + L_free[:, data.handles] @ U[data.handles]
     U[data.free] = spla.spsolve(-L_free[:, data.free].tocsc(), rhs).reshape(len(data.free), d)
     return U

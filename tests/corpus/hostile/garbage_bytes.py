@@ -9,6 +9,6 @@ def EDIT(nb):
 
 SOLUTIONS = {}
 LOSES = {
-    "optimal_rotation", "cotangent_weights", "cotangent_laplacian", "arap_covariances", "arap_rotations",
+    "cotangent_weights", "cotangent_laplacian", "arap_covariances", "arap_rotations",
     "arap_energy", "arap_precompute", "arap_global_step", "arap_solve", "laplacian_editing",
 }
