@@ -5,7 +5,7 @@ delete, duplicate) they are restored from the source, as nbgrader's checksums
 and ``add_missing_cells`` would. Every cell is rebuilt from the student's text
 alone: its metadata comes from the source notebook's cell of the same grade id
 (points, grade ids and locks cannot be forged; a cell the source does not know
-gets none), outputs and attachments are dropped (never trusted, maybe huge),
+gets none), outputs are dropped (never trusted, maybe huge),
 text that cannot be encoded is replaced, duplicate cell ids are repaired, and
 a plan of which cells to run when grading is made.
 """
@@ -261,6 +261,8 @@ def _rebuilt(cell, original, cid: str) -> nbformat.NotebookNode:
         new = nbformat.v4.new_code_cell(text, metadata=metadata)
     elif kind == "markdown":
         new = nbformat.v4.new_markdown_cell(text, metadata=metadata)
+        if isinstance(cell.get("attachments"), dict):  # pictures pasted into answers; neutralize keeps real PNGs only
+            new["attachments"] = cell["attachments"]
     else:
         new = nbformat.v4.new_raw_cell(text, metadata=metadata)
     new["id"] = cid

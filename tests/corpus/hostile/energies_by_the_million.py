@@ -1,17 +1,22 @@
 import nbformat
 
 NOTEBOOK = "03_arap"
-DESCRIPTION = "an added cell makes arap_solve return 3e7 energies when the grader collects it (240 MB, which the grader must not plot)"
+DESCRIPTION = (
+    "an added cell makes arap_solve return 3e7 energies for the first case the grader collects (240 MB, which the "
+    "grader must neither load nor plot; every case would fill the student's own 512 MiB workdir)"
+)
 _WRAPPER = '''import sys
 
 import numpy as np
 
 _honest_arap_solve = globals()["arap_solve"]
+_flooded = []
 
 
 def _flooding_arap_solve(data, handle_positions, U0=None, iterations=10):
     U, energies = _honest_arap_solve(data, handle_positions, U0, iterations)
-    if sys._getframe(1).f_code.co_name == "__deformlab_collect__":
+    if sys._getframe(1).f_code.co_name == "__deformlab_collect__" and not _flooded:
+        _flooded.append(True)
         return U, np.linspace(1.0, 0.0, 30_000_000)
     return U, energies
 
