@@ -11,8 +11,6 @@ the dict; recording stays in one process (``grader.pipeline.record``).
 from __future__ import annotations
 
 import hashlib
-import os
-import stat
 import time
 import traceback
 from dataclasses import dataclass, field

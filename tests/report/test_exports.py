@@ -1,12 +1,10 @@
 """Exports: Canvas and Moodle gradebook files in their documented columns, and feedback nbgrader can release."""
 
 import csv
-import io
 
 import pytest
 
 from grader.cli import main
-from grader.exports.lms import CANVAS_IDENTITY
 
 from .conftest import HOSTILE_ID
 
