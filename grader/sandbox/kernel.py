@@ -33,7 +33,7 @@ from jupyter_core.utils import run_sync
 from traitlets import DottedObjectName
 
 from grader.sandbox.bwrap import SandboxSpec, sandbox_user_namespace, wrap_command
-from grader.sandbox.limits import Process, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process, process_tree
+from grader.sandbox.limits import Process, is_running, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process, process_tree
 from grader.sandbox.process_limit import ProcessLimit, namespace_cap_prefix, pids_parent
 
 __all__ = ["SandboxedKernelManager", "peak_memory_bytes"]
@@ -235,7 +235,8 @@ class SandboxedKernelManager(KernelManager):
             os.chmod(self.sockets_dir, 0o755)
 
     def _launcher_running(self) -> bool:
-        return self.launcher is not None and bool(process_tree(self.launcher))
+        # One stat file, not a /proc scan: this runs every 10 ms while the kernel starts.
+        return self.launcher is not None and is_running(self.launcher)
 
     def _note_pid_namespace(self) -> None:
         """Remember the pid namespace the sandbox's processes are in (bwrap gives it one of its own)."""

@@ -16,7 +16,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "pid_namespace", "namespace_members", "status_bytes", "peak_rss_bytes", "kill_and_reap", "is_alive"]
+__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "pid_namespace", "namespace_members", "status_bytes", "peak_rss_bytes", "kill_and_reap", "is_alive", "is_running"]
 
 
 class Process(NamedTuple):
@@ -219,9 +219,18 @@ def is_alive(pid: int) -> bool:
     return fields is not None and fields[0] != "Z"
 
 
-def _is_running(proc: Process) -> bool:
+def is_running(proc: Process) -> bool:
     """True while ``proc`` has not exited (a zombie has exited; it only awaits
-    reaping) and its pid has not been recycled."""
+    reaping) and its pid has not been recycled.
+
+    Parameters
+    ----------
+    proc : Process
+
+    Returns
+    -------
+    bool
+    """
     fields = _stat_fields(proc.pid)
     return fields is not None and fields[0] != "Z" and int(fields[19]) == proc.start_ticks
 
@@ -241,7 +250,7 @@ def kill_and_reap(procs: Iterable[Process], timeout: float = 5.0) -> list[Proces
     list of Process
         Those still running after ``timeout`` (empty on success).
     """
-    pending = [p for p in procs if _is_running(p)]
+    pending = [p for p in procs if is_running(p)]
     for proc in pending:
         try:
             os.kill(proc.pid, signal.SIGKILL)
@@ -250,5 +259,5 @@ def kill_and_reap(procs: Iterable[Process], timeout: float = 5.0) -> list[Proces
     deadline = time.monotonic() + timeout
     while pending and time.monotonic() < deadline:
         time.sleep(0.02)
-        pending = [p for p in pending if _is_running(p)]
+        pending = [p for p in pending if is_running(p)]
     return pending
