@@ -109,7 +109,7 @@ def _cmd_grade(args) -> int:
         late = apply_late_policy(Path(args.out), Path(args.submitted), args.assignment, due, plugin,
                                  args.db or course_paths().gradebook_url)
         print(f"late: {len(late)} student(s) submitted after {due:%Y-%m-%d %H:%M} UTC"
-              + (f"; penalties (points): " + ", ".join(f"{s} {p:g}" for s, (_, p) in sorted(late.items())[:20]) if late else ""))
+              + ("; penalties (points): " + ", ".join(f"{s} {p:g}" for s, (_, p) in sorted(late.items())[:20]) if late else ""))
     print()
     print(class_summary(results))
     pairs = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
