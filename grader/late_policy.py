@@ -76,6 +76,36 @@ def make_plugin(spec: str) -> BasePlugin:
     return cls()
 
 
+def configured_plugin(config_file: Path | None) -> BasePlugin:
+    """The late-submission plugin a course's ``nbgrader_config.py`` sets, as ``nbgrader autograde`` builds it.
+
+    ``c.AssignLatePenalties.plugin_class`` names the class (nbgrader's
+    ``LateSubmissionPlugin`` when unset) and the file configures it, e.g.
+    ``c.LateSubmissionPlugin.penalty_method = "zero"`` or
+    ``c.PerDayPenalty.fraction_per_day = 0.1``.
+    """
+    from nbgrader.preprocessors import AssignLatePenalties
+    from traitlets.config import Config
+    from traitlets.config.loader import PyFileConfigLoader
+
+    config = Config()
+    if config_file is not None and Path(config_file).is_file():
+        config = PyFileConfigLoader(Path(config_file).name, path=str(Path(config_file).parent)).load_config()
+    assigner = AssignLatePenalties(config=config)
+    return assigner.plugin_class(parent=assigner)
+
+
+def gradebook_due(db_url: str, assignment: str) -> datetime | None:
+    """The due date nbgrader's gradebook holds for ``assignment`` (``nbgrader db assignment add NAME --duedate=...``)."""
+    from nbgrader.api import Gradebook, MissingEntry
+
+    with Gradebook(db_url) as gb:
+        try:
+            return gb.find_assignment(assignment).duedate
+        except MissingEntry:
+            return None
+
+
 def parse_due(text: str) -> datetime:
     """A due date as nbgrader reads one (naive UTC), e.g. ``2026-11-20 23:59:00 Europe/Paris``.
 
