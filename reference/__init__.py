@@ -28,9 +28,12 @@ from reference.bounded_biharmonic_weights import (
 )
 from reference.linear_blend_skinning import lbs, lbs_matrix
 from reference.dual_quaternion_skinning import dqs, dual_quaternion_transforms, dual_quaternions
-from reference.tetrahedra import tet_cotangent_laplacian, tet_cotangent_weights, tet_mass_matrix, tet_volumes
-from reference.tet_arap import (
+from reference.tetrahedra import (
     deformation_gradients,
+    tet_cotangent_laplacian,
+    tet_cotangent_weights,
+    tet_mass_matrix,
+    tet_volumes,
     tet_arap_energy,
     tet_arap_global_step,
     tet_arap_precompute,

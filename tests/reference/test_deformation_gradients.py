@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from reference.tet_arap import deformation_gradients
+from reference.tetrahedra import deformation_gradients
 
 seeds = st.integers(0, 2**32 - 1)
 

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from reference.tet_arap import tet_arap_energy, tet_arap_global_step, tet_arap_precompute
+from reference.tetrahedra import tet_arap_energy, tet_arap_global_step, tet_arap_precompute
 
 seeds = st.integers(0, 2**32 - 1)
 

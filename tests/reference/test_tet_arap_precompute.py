@@ -1,8 +1,7 @@
 import numpy as np
 import pytest
 
-from reference.tet_arap import tet_arap_precompute
-from reference.tetrahedra import tet_cotangent_laplacian
+from reference.tetrahedra import tet_arap_precompute, tet_cotangent_laplacian
 
 
 def test_precompute_keeps_the_laplacian_the_free_vertices_and_their_factorization(tet_mesh):

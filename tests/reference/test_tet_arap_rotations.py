@@ -1,7 +1,7 @@
 import numpy as np
 from hypothesis import given, settings, strategies as st
 
-from reference.tet_arap import deformation_gradients, tet_arap_rotations
+from reference.tetrahedra import deformation_gradients, tet_arap_rotations
 
 seeds = st.integers(0, 2**32 - 1)
 

@@ -3,8 +3,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from reference.tet_arap import tet_arap_energy, tet_arap_precompute, tet_arap_rotations, tet_arap_solve
-from reference.tetrahedra import tet_volumes
+from reference.tetrahedra import tet_arap_energy, tet_arap_precompute, tet_arap_rotations, tet_arap_solve, tet_volumes
 from starter.meshes import load_handles
 
 seeds = st.integers(0, 2**32 - 1)
