@@ -41,9 +41,9 @@ def _shuffled(name: str, rng: np.random.Generator, jitter: float = 0.15, flip: b
 def _single(rng: np.random.Generator):
     """Two random tetrahedra sharing a face, one of each orientation, far from the origin."""
     V = rng.normal(size=(5, 3)) + rng.normal(0, 10, 3)
-    T = np.array([[0, 1, 2, 3], [0, 2, 1, 4]])
-    if np.linalg.det(V[1:4] - V[0]) < 0:
-        T = T[:, [1, 0, 2, 3]]
+    T = np.array([[0, 1, 2, 3], [0, 1, 2, 4]])
+    signs = np.sign([np.linalg.det(V[t[1:]] - V[t[0]]) for t in T])
+    T[signs != [1, -1]] = T[signs != [1, -1]][:, [1, 0, 2, 3]]  # the first positive, the second negative
     return V, T
 
 
@@ -207,7 +207,7 @@ class TetArapRotationsChecks(FunctionChecks):
         worst = int(np.argmax(got_distance - best))
         hint = ""
         if not nearest and close(R, want.transpose(0, 2, 1), 1e-8)[0]:
-            hint = " (R_t is transposed: maximize tr(R J_tᵀ), i.e. R = U Vᵀ for J = U Σ Vᵀ)"
+            hint = " (R_t is transposed: maximize tr(R J_tᵀ), i.e. R = X Yᵀ for J = X Σ Yᵀ)"
         return [
             verdict("each R_t is a rotation (RᵀR = I, det R = +1)", rotation, where),
             verdict(
