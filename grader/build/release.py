@@ -59,7 +59,8 @@ STUDENT_README = """# Deformation assignment
 
 Six notebooks, one per stage: `00_meshes` (warm-up), `01_shape_matching`,
 `02_sign_correction`, `03_arap`, `04_bbw`, `05_lbs`, and a seventh for bonus
-points, `06_fast` (ARAP in the skinning subspace). In each, fill in one
+points, `06_fast` (ARAP in the skinning subspace). `07_tetrahedra` takes the
+lecture to volumes: finite elements and ARAP on tetrahedral meshes. In each, fill in one
 function at a time where it says `YOUR CODE HERE`, then run the tests cell below
 it: its messages say what is wrong.
 
