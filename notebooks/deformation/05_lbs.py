@@ -693,6 +693,15 @@ assert np.allclose(_U, [[0.0, -1.0, 0.0]]), (
     f"+170° and -170° are 20° apart across the half turn: their middle is 180°, (0, -1, 0), got {np.round(_U, 4).tolist()}"
     + (": flip the dual quaternions on the other side of handle 0's (q_j,0 · q_0,0 < 0) before blending" if np.allclose(_U, _V) else "")
 )
+# 0° and 190° (= -170°): half way is -85°, the short way. Whether the two quaternions come out on the
+# same side depends on the sign dual_quaternions picks; with this pair or the one above they do not.
+_U = dqs(_V, np.array([[0.5, 0.5]]), np.stack([_turn_x(0), _turn_x(190)]))
+_want = [[0.0, np.cos(np.radians(85)), -np.sin(np.radians(85))]]
+assert np.allclose(_U, _want), (
+    f"half way between 0° and 190° (= -170°) the short way is -85°, (0, 0.0872, -0.9962), got {np.round(_U, 4).tolist()}"
+    + (": that is +95°, the long way; flip the dual quaternions on the other side of handle 0's "
+       "(q_j,0 · q_0,0 < 0) before blending" if np.allclose(_U, [[0.0, np.cos(np.radians(95)), np.sin(np.radians(95))]]) else "")
+)
 _V, _F = load_mesh("cylinder")
 _s = (_V[:, 0] - _V[:, 0].min()) / np.ptp(_V[:, 0])
 _W = np.c_[1 - _s, _s]

@@ -1,0 +1,96 @@
+"""Audit: does every buggy corpus entry make its notebook's PUBLIC tests name the mistake?
+
+For each ``tests/corpus/buggy/*.py`` entry, the notebook's cells run as a student
+runs them (provided cells that need no student function, the solution cells with
+the entry's bug, the public tests cells without their hidden section), and the
+first failing assertion of the tests cell of every function the entry changes is
+compared with ``HINTS``: the words a student with that bug must read. Each entry
+runs in its own process with a time limit (some bugs make a solver crawl).
+
+Run ``.venv/bin/python -m tests.grader.public_hints_audit [ENTRY ...]``; it prints
+one line per (entry, function) and exits 1 if a hint is missing.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from grader.build.authored import read_authored
+from grader.corpus import load_entry
+from grader.pipeline.sanitize import _calls_contract_at_top_level
+
+ROOT = Path(__file__).resolve().parents[2]
+NOTEBOOKS = ROOT / "notebooks" / "deformation"
+BUGGY = ROOT / "tests" / "corpus" / "buggy"
+TIMEOUT = 300
+
+#: entry -> words (any one of each tuple) its public tests' message must contain.
+HINTS: dict[str, tuple[tuple[str, ...], ...]] = {}
+
+
+def public_failures(notebook: str, solutions: dict[str, str], functions: set[str]) -> dict[str, str]:
+    """First failing public assertion of each of ``functions``' tests cells ("" if it passes).
+
+    ``solutions`` replaces those functions' solution cells; the other cells are the notebook's own.
+    Every tests cell runs, in order, as the student runs them (a later one may read an earlier one's names).
+    """
+    os.environ["DEFORMLAB_NO_PLOTS"] = "1"
+    namespace: dict = {}
+    found: dict[str, str] = {}
+    for cell in read_authored(NOTEBOOKS / f"{notebook}.py").cells:
+        if cell.kind == "provided" and not _calls_contract_at_top_level(cell.source):
+            exec(compile(cell.source, notebook, "exec"), namespace)
+        elif cell.kind == "solution":
+            exec(compile(solutions.get(cell.function, cell.source), notebook, "exec"), namespace)
+        elif cell.kind == "tests":
+            try:
+                exec(compile(cell.source, notebook, "exec"), namespace)
+                message = ""
+            except Exception as exc:  # noqa: BLE001 - a crash is what the student sees too
+                message = str(exc) if isinstance(exc, AssertionError) else f"{type(exc).__name__}: {exc}"
+            if cell.function in functions:
+                found[cell.function] = message
+    return found
+
+
+def _audit_one(path: Path) -> dict:
+    entry = load_entry(path)
+    return public_failures(entry.notebook, entry.solutions, set(entry.solutions) | set(entry.loses))
+
+
+def main(argv: list[str]) -> int:
+    if argv[:1] == ["--one"]:
+        print(json.dumps(_audit_one(Path(argv[1]))))
+        return 0
+    paths = [BUGGY / f"{name}.py" for name in argv] or sorted(BUGGY.glob("*.py"))
+    missing = 0
+    for path in paths:
+        entry = load_entry(path)
+        try:
+            run = subprocess.run([sys.executable, "-m", "tests.grader.public_hints_audit", "--one", str(path)],
+                                 cwd=ROOT, capture_output=True, text=True, timeout=TIMEOUT)
+            messages = json.loads(run.stdout.strip().splitlines()[-1]) if run.returncode == 0 else None
+        except subprocess.TimeoutExpired:
+            messages, run = None, None
+        if messages is None:
+            why = "timed out" if run is None else f"crashed: {run.stderr.strip().splitlines()[-1:]}"
+            print(f"{entry.name:<42} ?       {why}")
+            missing += 1
+            continue
+        for function in entry.solutions:
+            message = messages.get(function, "")
+            words = HINTS.get(entry.name, ())
+            ok = bool(message) and all(any(w in message for w in group) for group in words) and bool(words)
+            missing += not ok
+            status = "ok" if ok else ("PASSES" if not message else "NO HINT")
+            print(f"{entry.name:<42} {status:<7} {function}: {message[:400]!r}")
+    print(f"{len(paths)} entries, {missing} without a hint")
+    return 1 if missing else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
