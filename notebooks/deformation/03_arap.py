@@ -563,6 +563,7 @@ _E = arap_energy(_V, 2 * _V, _F, _C, _I)
 assert np.isclose(_E, 2.1), (
     f"scaling the triangle by 2 with R_i = I: each of the 3 corners sees |2e - e|² per edge, "
     f"E = 3 · 0.7 = 2.1, got {_E}" + (" (did you count each edge for one corner only?)" if np.isclose(_E, 0.7) else "")
+    + (": that is 3 Σ |e|², without the weights; weight each edge's term by its C[t, k]" if np.isclose(_E, 12.0) else "")
 )
 _R = _I.copy()
 _R[0] = [[0.0, -1.0], [1.0, 0.0]]

@@ -306,7 +306,8 @@ _labels = np.asarray(rotation_clusters(_W, 3))
 assert _labels.shape == (60,), f"one label per row of W: expected shape (60,), got {_labels.shape}"
 assert set(_labels.tolist()) == {0, 1, 2}, f"labels must be 0, 1, 2, each used; got {sorted(set(_labels.tolist()))}"
 assert all(len(set(_labels[_s].tolist())) == 1 for _s in (slice(0, 30), slice(30, 50), slice(50, 60))), (
-    "the three separated groups of rows must get one label each"
+    "the three separated groups of rows must get one label each: did two starting centres fall into one group? "
+    "Spread the start (k-means++) and refill a cluster that ends up empty"
 )
 assert np.array_equal(rotation_clusters(_W, 3, seed=1), rotation_clusters(_W, 3, seed=1)), "the same seed must give the same labels"
 
@@ -322,7 +323,10 @@ _W = igl.harmonic(_V, _F, np.array(load_handles("character")["points"]), np.eye(
 for _k in (1, 4, 12):
     _labels = np.asarray(rotation_clusters(_W, _k))
     assert np.array_equal(np.unique(_labels), np.arange(_k)), f"k = {_k}: every label in range({_k}) must be used"
-    assert _is_fixed_point(_W, _labels), f"k = {_k}: some row is closer to another cluster's mean than to its own"
+    assert _is_fixed_point(_W, _labels), (
+        f"k = {_k}: some row is closer to another cluster's mean than to its own: repeat assigning the rows and "
+        "recomputing the means until no label changes"
+    )
 
 # %% [markdown]
 # ## 3 · The ARAP energy in the skinning subspace

@@ -54,6 +54,8 @@ def public_failures(notebook: str, solutions: dict[str, str], functions: set[str
                 message = str(exc) if isinstance(exc, AssertionError) else f"{type(exc).__name__}: {exc}"
             if cell.function in functions:
                 found[cell.function] = message
+                if set(found) >= set(functions):
+                    break
     return found
 
 
