@@ -253,6 +253,8 @@ _Lx = sp.csr_matrix(cotangent_laplacian(_V, _F)) @ _x
 _expected = _Lx @ (_Lx / _igl.massmatrix(_V, _F).diagonal())
 assert np.isclose(_x @ _Q @ _x, _expected, rtol=1e-9), (
     f"xᵀ Q x must equal (Lx)ᵀ M⁻¹ (Lx) = {_expected:.8g} with the Voronoi mass matrix, got {_x @ _Q @ _x:.8g}"
+    + (": that is (Lx)ᵀ(Lx), Q = L L; the mass matrix M⁻¹ is missing between the two Laplacians"
+       if np.isclose(_x @ _Q @ _x, _Lx @ _Lx, rtol=1e-9) else "")
 )
 _ratio = (_x @ sp.csr_matrix(biharmonic_matrix(2.0 * _V, _F)) @ _x) / (_x @ _Q @ _x)
 assert np.isclose(_ratio, 0.25), (

@@ -872,8 +872,8 @@ plotting.show_meshes([(U, F) for U in elbow.values()], titles=[f"elbow 90°: {na
 # between 0° and 90°: each point keeps its distance to the joint, so the outer
 # side of the zone becomes an arc around the joint instead of following the bent
 # bones, and points there end up farther from the skeleton than the rest radius
-# (the bulge); the inner side keeps its distance too, so there is no collapse
-# and the volume stays. LBS moves the same vertices by averaged matrices, which
+# (the bulge); the inner side keeps its distance to the joint too, so it folds
+# in less than with LBS (skin to bone ×0.62 against ×0.45) and the volume stays. LBS moves the same vertices by averaged matrices, which
 # shrink towards the joint: the inner side collapses and the volume drops. ARAP
 # here acts on the surface only: its cells are fans of skin triangles, so it
 # keeps the skin's edge lengths and is free to fold the tube at the joint; no
