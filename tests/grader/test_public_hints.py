@@ -66,6 +66,7 @@ def test_a_common_mistake_gets_a_hint_that_names_it(notebook, function, source, 
     "entry, words",
     [
         ("boundary_directed_half_edges", ("oriented alike",)),
+        ("biharmonic_without_mass", ("M⁻¹ is missing",)),
         ("dqs_without_pivot_flip", ("the long way", "flip the dual quaternions")),
         ("energy_unit_weights", ("without the weights",)),
         ("fast_clusters_empty_never_refilled", ("refill a cluster that ends up empty",)),
