@@ -63,20 +63,23 @@ def test_a_common_mistake_gets_a_hint_that_names_it(notebook, function, source, 
 
 
 @pytest.mark.parametrize(
-    "entry, words",
+    "entry, function, words",
     [
-        ("boundary_directed_half_edges", ("oriented alike",)),
-        ("biharmonic_without_mass", ("M⁻¹ is missing",)),
-        ("dqs_without_pivot_flip", ("the long way", "flip the dual quaternions")),
-        ("energy_unit_weights", ("without the weights",)),
-        ("fast_clusters_empty_never_refilled", ("refill a cluster that ends up empty",)),
-        ("fast_clusters_single_assignment", ("until no label changes",)),
+        ("boundary_directed_half_edges", "boundary_loop_count", ("oriented alike",)),
+        ("biharmonic_without_mass", "biharmonic_matrix", ("M⁻¹ is missing",)),
+        ("dqs_without_pivot_flip", "dqs", ("the long way", "flip the dual quaternions")),
+        ("energy_unit_weights", "arap_energy", ("without the weights",)),
+        ("fast_clusters_empty_never_refilled", "rotation_clusters", ("refill a cluster that ends up empty",)),
+        ("fast_clusters_single_assignment", "rotation_clusters", ("until no label changes",)),
+        # the bug is in fast_precompute, whose data only fast_energy's tests can read
+        ("fast_precompute_without_factor_3", "fast_energy", ("Q = 3 Aᵀ(-L)A",)),
+        ("fast_rotations_vertex_average", "fast_rotations", ("not the cluster's best rotation",)),
+        ("fast_solve_keeps_t0_fixed_rows", "fast_solve", ("before the first local step",)),
     ],
 )
-def test_a_buggy_corpus_entry_gets_a_hint_that_names_its_mistake(entry, words):
+def test_a_buggy_corpus_entry_gets_a_hint_that_names_its_mistake(entry, function, words):
     bug = load_entry(BUGGY / f"{entry}.py")
-    found = public_failures(bug.notebook, bug.solutions, set(bug.solutions))
-    for function, message in found.items():
-        assert message, f"{entry}: the public tests of {function} pass with the mistake"
-        for word in words:
-            assert word in message, f"{entry}: the hint of {function} does not say {word!r}: {message}"
+    message = public_failures(bug.notebook, bug.solutions, {function})[function]
+    assert message, f"{entry}: the public tests of {function} pass with the mistake"
+    for word in words:
+        assert word in message, f"{entry}: the hint of {function} does not say {word!r}: {message}"
