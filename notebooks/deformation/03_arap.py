@@ -314,6 +314,8 @@ assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name_
 _expected = np.array([[-1.25, 0.25, 1.0], [0.25, -0.25, 0.0], [1.0, 0.0, -1.0]])
 assert np.allclose(_L.toarray(), _expected), (
     f"for the triangle (0,0), (2,0), (0,1) expected L =\n{_expected}\ngot\n{np.round(_L.toarray(), 6)}"
+    + ("\nthe diagonal has the wrong sign: L_ii = -Σ_j L_ij, so that every row sums to zero"
+       if np.allclose(_L.toarray(), np.abs(_expected)) else "")
 )
 
 
@@ -684,11 +686,18 @@ _h = np.concatenate([_ends["left"], _ends["right"]])
 _copies = (_V.copy(), _F.copy(), _h.copy())
 _data = arap_precompute(_V, _F, _h)
 assert all(np.array_equal(_a, _b) for _a, _b in zip((_V, _F, _h), _copies)), "arap_precompute must not modify V, F or handles"
-for _bad, _why in (([len(_V)], "out of range"), ([0, 0], "repeated"), ([], "empty")):
+for _bad, _why in (
+    ([0, 0], "repeated: the caller's mistake; dropping repeats with np.unique would also sort the handles, "
+             "and handle_positions would go to the wrong vertices"),
+    ([len(_V)], "out of range"),
+    ([], "empty"),
+):
     try:
         arap_precompute(_V, _F, np.array(_bad, dtype=np.int64))
     except ValueError:
         pass
+    except Exception as _exc:  # noqa: BLE001 - any other error is not the one asked for
+        raise AssertionError(f"handles {_bad} ({_why}) must raise ValueError, got {type(_exc).__name__}: {_exc}") from None
     else:
         raise AssertionError(f"handles {_bad} ({_why}) must raise ValueError")
 
@@ -988,7 +997,10 @@ _target = _V[_h] + 0.3 * rng.normal(size=(len(_h), 3))
 _U = laplacian_editing(_V, _F, _h, _target)
 _expected = arap_global_step(arap_precompute(_V, _F, _h), np.tile(np.eye(3), (len(_V), 1, 1)), _target)
 _err = np.linalg.norm(_U - _expected, axis=1)
-assert _err.max() < 1e-8, f"Laplacian editing is the global step with every R_i = I; vertex {_err.argmax()} is off by {_err.max():.2e}"
+assert _err.max() < 1e-8, (
+    f"Laplacian editing is the global step with every R_i = I; vertex {_err.argmax()} is off by {_err.max():.2e} "
+    "(the same cotangent Laplacian as the global step, not the uniform graph Laplacian)"
+)
 _t = np.array([1.0, 2.0, -3.0])
 assert np.allclose(laplacian_editing(_V, _F, _h, _V[_h] + _t), _V + _t), "translating every handle by t must translate the mesh by t"
 assert np.array_equal(_U[_h], _target), "U[handles] must equal handle_positions exactly"

@@ -312,6 +312,8 @@ _expected = np.array([[1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
 assert np.array_equal(_bc, _expected), (
     f"bc must have one row per vertex of b and one column per handle, 1 in the column of the "
     f"vertex's handle:\n{_expected}\ngot\n{np.asarray(_bc)}"
+    + ("\nthe columns are in reverse order: column j belongs to handles[j]"
+       if np.array_equal(np.asarray(_bc), _expected[:, ::-1]) else "")
 )
 _regions = load_handles("character")["regions"]
 _b, _bc = handle_constraints(_regions)
@@ -385,6 +387,7 @@ _expected = np.array([[0.9, 0.1], [0.1, 0.9]])
 assert np.allclose(_W, _expected), (
     f"points at distances (1, 3) and (3, 1) from two handles, power 2: weights ∝ (1, 1/9), i.e. "
     f"{_expected.tolist()}, got {np.round(_W, 6).tolist()}"
+    + (": that is power 1; weight by 1 / distance**power" if np.allclose(_W, [[0.75, 0.25], [0.25, 0.75]]) else "")
 )
 _W = inverse_distance_weights(np.array([[1.0, 0.0]]), np.array([[0.0, 0.0], [3.0, 0.0]]), power=1)
 assert np.allclose(_W, [[2 / 3, 1 / 3]]), f"power 1 at distances (1, 2): weights (2/3, 1/3), got {np.round(_W, 6).tolist()}"

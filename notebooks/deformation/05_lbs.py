@@ -121,6 +121,7 @@ assert _A.shape == (1, 6), f"one vertex in 2D with two handles gives A of shape 
 assert np.allclose(_A, _expected), (
     f"for v = (1, 2) and w = (0.25, 0.75) the row is [w_1·(1, 2, 1), w_2·(1, 2, 1)] = {_expected.ravel().tolist()}, "
     f"got {np.round(_A, 6).ravel().tolist()}"
+    + (": the 1 goes last, [v_i; 1]" if np.allclose(_A, [[0.25, 0.25, 0.5, 0.75, 0.75, 1.5]]) else "")
 )
 
 _V, _F = load_mesh("character")

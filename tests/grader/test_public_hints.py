@@ -75,6 +75,13 @@ def test_a_common_mistake_gets_a_hint_that_names_it(notebook, function, source, 
         ("fast_precompute_without_factor_3", "fast_energy", ("Q = 3 Aᵀ(-L)A",)),
         ("fast_rotations_vertex_average", "fast_rotations", ("not the cluster's best rotation",)),
         ("fast_solve_keeps_t0_fixed_rows", "fast_solve", ("before the first local step",)),
+        ("sign_from_det_of_s", "optimal_rotation", ("det(S) = 0 says nothing",)),
+        ("handle_columns_reversed", "handle_constraints", ("reverse order",)),
+        ("idw_power_ignored", "inverse_distance_weights", ("power 1",)),
+        ("laplacian_diagonal_sign", "cotangent_laplacian", ("diagonal has the wrong sign",)),
+        ("laplacian_editing_uniform", "laplacian_editing", ("not the uniform graph Laplacian",)),
+        ("lbs_matrix_one_first", "lbs_matrix", ("the 1 goes last",)),
+        ("precompute_handles_deduplicated", "arap_precompute", ("np.unique would also sort",)),
     ],
 )
 def test_a_buggy_corpus_entry_gets_a_hint_that_names_its_mistake(entry, function, words):
