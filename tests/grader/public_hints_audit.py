@@ -3,12 +3,14 @@
 For each ``tests/corpus/buggy/*.py`` entry, the notebook's cells run as a student
 runs them (provided cells that need no student function, the solution cells with
 the entry's bug, the public tests cells without their hidden section), and the
-first failing assertion of the tests cell of every function the entry changes is
-compared with ``HINTS``: the words a student with that bug must read. Each entry
+first failing assertion of the tests cell of every function the entry changes or
+loses is compared with ``HINTS``: the words a student with that bug must read in
+one of them. Each entry
 runs in its own process with a time limit (some bugs make a solver crawl).
 
 Run ``.venv/bin/python -m tests.grader.public_hints_audit [ENTRY ...]``; it prints
-one line per (entry, function) and exits 1 if a hint is missing.
+one line per entry (the tests cell whose message holds the hint, or the first that fails)
+and exits 1 if a hint is missing.
 """
 
 from __future__ import annotations
@@ -132,13 +134,13 @@ def main(argv: list[str]) -> int:
             print(f"{entry.name:<42} ?       {why}")
             missing += 1
             continue
-        for function in entry.solutions:
-            message = messages.get(function, "")
-            words = HINTS.get(entry.name, ())
-            ok = bool(message) and all(any(w in message for w in group) for group in words) and bool(words)
-            missing += not ok
-            status = "ok" if ok else ("PASSES" if not message else "NO HINT")
-            print(f"{entry.name:<42} {status:<7} {function}: {message[:400]!r}")
+        words = HINTS.get(entry.name)
+        failed = {f: m for f, m in messages.items() if m}
+        hinted = [f for f, m in failed.items() if words and all(any(w in m for w in group) for group in words)]
+        missing += not hinted
+        status = "ok" if hinted else ("PASSES" if not failed else "NO HINT")
+        function = hinted[0] if hinted else next(iter(failed), ", ".join(entry.solutions))
+        print(f"{entry.name:<42} {status:<7} {function}: {failed.get(function, '')[:300]!r}")
     print(f"{len(paths)} entries, {missing} without a hint")
     return 1 if missing else 0
 
