@@ -325,7 +325,7 @@ direct = (time.perf_counter() - start) / len(frames)
 print(f"lbs_matrix once: {1e3 * precompute:.2f} ms; per frame: A @ T {1e6 * with_matrix:.0f} µs, lbs {1e6 * direct:.0f} µs")
 
 # %% [markdown]
-# ## 4 · The candy wrapper
+# ## 4 · Twisting a cylinder
 #
 # Now twist. The cylinder (`load_mesh("cylinder")`, its axis along $x$ through
 # the origin) has two handles, its end caps; the left one stays, the right one
