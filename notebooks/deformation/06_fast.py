@@ -663,6 +663,29 @@ for _ in range(30):
 _R = np.asarray(fast_rotations(_data, _identity))
 _T = np.asarray(fast_global_step(_data, _R, _identity[[3, 4]]))
 assert np.allclose(_T, _identity, atol=1e-9), "with the fixed handles at rest and identity rotations, every transform stays the identity"
+# Rotations that are not the identity: those that fit the stepped pose. At a minimizer the energy's
+# slope along any change of the free transforms is zero (a central difference sees the slope alone).
+_R = np.asarray(fast_rotations(_data, np.asarray(fast_global_step(_data, _R, _fixed_T))))
+_T = np.asarray(fast_global_step(_data, _R, _fixed_T))
+_D = rng.normal(0.0, 1.0, (3, 2, 3))
+
+
+def _slope(T, R, h=1e-4):
+    up, down = T.copy(), T.copy()
+    up[:3] += h * _D
+    down[:3] -= h * _D
+    return (fast_energy(_data, up, R) - fast_energy(_data, down, R)) / (2 * h)
+
+
+if abs(_slope(_T, _R)) > 1e-6:
+    if np.allclose(_T[:3, :, :2], np.eye(2)):
+        raise AssertionError("the free handles' linear parts stayed the identity: the global step solves for the whole "
+                             "transforms [A_j | t_j], not only their translations")
+    if abs(_slope(_T, _R.transpose(0, 2, 1))) <= 1e-6:
+        raise AssertionError("your T minimizes the energy for the transposed rotations: B(R) = Σ_c (R_c P_c)ᵀ uses R_c as "
+                             "fast_rotations returns it (did you transpose R_c?)")
+    raise AssertionError(f"the energy still has slope {_slope(_T, _R):.2e} along a change of the free transforms: "
+                         "the global step is not the minimizer for these rotations (check B(R) - Q_fc T_c)")
 
 # %% [markdown]
 # ## 6 · The solver

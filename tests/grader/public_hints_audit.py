@@ -56,14 +56,14 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "energy_unit_weights": (("without the weights",),),
     "fast_clusters_empty_never_refilled": (("refill a cluster",),),
     "fast_clusters_single_assignment": (("until no label changes",),),
-    # fast_global_step_translations_only, fast_step_rotations_transposed, global_step_soft_handles:
-    # their code reads fields of reference/'s data object, so with the notebook's own precompute they
-    # crash (AttributeError) before their bug shows; they need rewriting from corpus.teaching_cell
+    "fast_global_step_translations_only": (("not only their translations",),),
+    "fast_step_rotations_transposed": (("transposed rotations",),),
     "fast_precompute_without_factor_3": (("Q = 3 Aᵀ(-L)A",),),
     "fast_rotations_vertex_average": (("not the cluster's best rotation",),),
     "fast_solve_energy_before_global": (("rotations of iteration k's local step",),),
     "fast_solve_keeps_t0_fixed_rows": (("before the first local step",),),
     "genus_ignores_components": (("connected component",),),
+    "global_step_soft_handles": (("must equal handle_positions exactly",),),
     "global_step_spokes_rhs": (("mean rotation of each triangle",),),
     "handle_columns_reversed": (("reverse order",),),
     "idw_power_ignored": (("power 1",),),
