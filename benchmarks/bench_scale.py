@@ -159,11 +159,16 @@ class _Timers:
 
     def wrap(self, owner, name: str, step, classify=None):
         original = getattr(owner, name)
-        if name == "gc":  # the module: time its collect()
-            import types
-
+        if name == "gc":  # the module: time its collect(), pass the rest through
             timed_collect = self._timed(original.collect, step, None)
-            setattr(owner, name, types.SimpleNamespace(collect=timed_collect))
+
+            class _TimedGc:
+                collect = staticmethod(timed_collect)
+
+                def __getattr__(self, attribute):
+                    return getattr(original, attribute)
+
+            setattr(owner, name, _TimedGc())
             return original
         setattr(owner, name, self._timed(original, step, classify))
         return original

@@ -9,6 +9,7 @@ replayed, and execution goes on with the next cell.
 
 from __future__ import annotations
 
+import functools
 import gc
 import math
 import time
@@ -242,9 +243,20 @@ def execute(
             # "AST constructor recursion depth mismatch" when their finalizers run inside it.
             del client, km
             gc.collect()
+            _freeze_long_lived()
         barren_lives = barren_lives + 1 if len(items) == done_before and time.monotonic() < deadline else 0
     result.seconds = time.monotonic() - start
     return result
+
+
+@functools.cache
+def _freeze_long_lived() -> None:
+    """Exempt what outlives every unit (modules, the reference's cached outputs) from later collections.
+
+    Called once per process, after a first collection: the ``gc.collect()`` after each kernel
+    life then walks only the objects made since, not the whole heap (0.35 s a unit before).
+    """
+    gc.freeze()
 
 
 def _replay(client: NotebookClient, nb, replay: list[int], result: Execution, deadline: float, timeout: float) -> bool:
