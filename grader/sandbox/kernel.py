@@ -19,6 +19,7 @@ from __future__ import annotations
 import asyncio
 import dataclasses
 import functools
+import importlib.util
 import logging
 import os
 import shutil
@@ -200,7 +201,11 @@ class SandboxedKernelManager(KernelManager):
         # Inside the pid namespace the kernel's parent is bwrap's pid 1; saying so
         # keeps ipykernel from polling a parent pid it cannot see and from
         # printing its "ipython kernel entry point" note on the grader's stdout.
-        spec = dataclasses.replace(self.sandbox_spec, env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env})
+        spec = dataclasses.replace(
+            self.sandbox_spec,
+            env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env},
+            hide=[*self.sandbox_spec.hide, *_debugger_paths()],
+        )
         kernel = super().format_kernel_cmd(extra_arguments)
         if self.namespace_cap is not None:
             kernel = [*namespace_cap_prefix(self.namespace_cap), *kernel]
@@ -342,6 +347,19 @@ class SandboxedKernelManager(KernelManager):
             if not self.process_limit.remove():
                 log.warning("could not remove the sandbox's pids cgroup %s", self.process_limit.path)
             self.process_limit = None
+
+
+@functools.cache
+def _debugger_paths() -> tuple[Path, ...]:
+    """Where debugpy is installed: masked in every sandbox, so ipykernel starts without its debugger.
+
+    Nothing in grading uses the debugger (no front end attaches, there is no network), and
+    importing it is about a fifth of the kernel's start-up imports.
+    """
+    found = importlib.util.find_spec("debugpy")
+    if found is None or not found.submodule_search_locations:
+        return ()
+    return tuple(Path(p).resolve() for p in found.submodule_search_locations)
 
 
 @functools.cache
