@@ -11,6 +11,7 @@ the dict; recording stays in one process (``grader.pipeline.record``).
 from __future__ import annotations
 
 import hashlib
+import json
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -175,7 +176,7 @@ def _grade_in(ws, spec: UnitSpec, source, sanitized, readonly: list[str], starte
             write_fixtures(cell.function, hidden_cases(cell.function, spec.seed)[0], fixtures)
         except Exception as exc:  # noqa: BLE001 - costs this function, not the notebook
             broken[cell.function] = f"grader error preparing hidden cases: {type(exc).__name__}: {exc}"
-    nbformat.write(sanitized.nb, workdir / f"{spec.notebook}.ipynb")
+    (workdir / f"{spec.notebook}.ipynb").write_text(_notebook_json(sanitized.nb), encoding="utf-8")
     run = execute(
         sanitized.nb,
         sanitized.plan,
@@ -244,8 +245,18 @@ def _grade_in(ws, spec: UnitSpec, source, sanitized, readonly: list[str], starte
         peak_rss_bytes=run.peak_rss_bytes,
         execution_s=round(run.seconds, 3),
         feedback_html=feedback,
-        autograded_notebook=nbformat.writes(sanitized.nb),
+        autograded_notebook=_notebook_json(sanitized.nb),
     )
+
+
+def _notebook_json(nb: nbformat.NotebookNode) -> str:
+    """The notebook as JSON text, compact.
+
+    ``nbformat.writes`` indents, which sends ``json`` to its pure-Python encoder, and re-validates
+    a notebook ``sanitize`` built from validated cells: about 30 ms of each unit's CPU. Any JSON
+    reader (nbformat, formgrader) reads this the same.
+    """
+    return json.dumps(nb, ensure_ascii=False)
 
 
 def _verified(function: str, seed: int, outputs: Path, failure: str | None):
