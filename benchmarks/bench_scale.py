@@ -9,7 +9,8 @@ machine-core-seconds per notebook (wall × cores / notebooks, the issue's target
 leaves unused (idle, or used by other programs on a shared machine; the
 machine's own idle share over the run is printed beside it). Then one student's
 notebooks are graded one by one in this process with timers around each step,
-for the breakdown of a unit's wall time: kernel start, waits, cells run
+for the breakdown of a unit's wall time (each next unit's sandbox pre-started, as
+in a worker): kernel start, waits, cells run
 (definitions and imports, replayed definitions, collection), peak-memory
 readings, garbage collection, kernel shut-down, verification, feedback
 pictures, and the rest.
@@ -209,7 +210,9 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
         (execute_module, "peak_memory_bytes", "execute: peak-memory readings", None),
         (execute_module, "gc", "execute: garbage collection", None),
         (NotebookClient, "execute_cell", None, cell_kind),
+        (SandboxedKernelManager, "finish_start", "execute: kernel start (sandbox, process, its sockets)", None),
         (SandboxedKernelManager, "shutdown_kernel", "execute: kernel shut-down", None),
+        (unit_module, "_prestart_next", "launch of the next unit's sandbox (it boots meanwhile)", None),
         (unit_module, "read_outputs", "read outputs", None),
         (unit_module, "verify", "verification", None),
         (unit_module, "feedback_html", "feedback page and pictures", None),
@@ -224,6 +227,7 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
             hidden_cases(cell.function, 1)
     once = time.perf_counter() - start
     originals = [(owner, name, timers.wrap(owner, name, step, classify)) for owner, name, step, classify in patches]
+    unit_module.prestart_kernels()  # as grading workers do
     try:
         readonly = [str(paths.data), str(paths.starter)]
         folder = next(iter(sorted(submitted.iterdir()))) / "deformation"
@@ -241,6 +245,7 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
     finally:
         for owner, name, original in originals:
             setattr(owner, name, original)
+        unit_module.prestart_kernels(False)  # the last spare's shut-down is no unit's
     s = timers.seconds
     inside = sum(v for k, v in s.items() if k.startswith("execute: "))
     table = {k: v / units for k, v in sorted(s.items()) if k != "execute (total)"}

@@ -10,8 +10,13 @@ the dict; recording stays in one process (``grader.pipeline.record``).
 
 from __future__ import annotations
 
+import atexit
+import contextlib
+import functools
 import hashlib
 import json
+import logging
+import multiprocessing.util
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -22,7 +27,7 @@ import nbformat
 from grader.harness.fixtures import write_fixtures
 from grader.paths import course_paths
 from grader.harness.outputs import OutputError, read_outputs
-from grader.pipeline.execute import ExecuteOptions, execute
+from grader.pipeline.execute import ExecuteOptions, execute, prestart
 from grader.pipeline.feedback import feedback_html
 from grader.pipeline.guard import GraderLimitExceeded, grader_limits, peak_rss_bytes, reset_peak_rss
 from grader.pipeline.neutralize import neutralize
@@ -31,7 +36,10 @@ from grader.pipeline.verify import graded_cells, hidden_cases, verify
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.report.digest import output_digest
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
-from grader.sandbox.workspace import workspace
+from grader.sandbox.kernel import SandboxedKernelManager
+from grader.sandbox.workspace import Workspace, workspace
+
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -158,14 +166,114 @@ def grade_unit(spec: UnitSpec, readonly: list[str] | None = None) -> dict:
         return _grader_error(spec, source, exc, started)
     readonly = course_readonly() if readonly is None else readonly
     try:
-        with workspace(spec.disk_bytes) as ws:
-            return _grade_in(ws, spec, source, sanitized, readonly, started)
+        with _sandbox(spec, readonly) as (ws, kernel):
+            return _grade_in(ws, kernel, spec, source, sanitized, readonly, started)
     except Exception as exc:  # noqa: BLE001 - the grader's own failure: this row says so, the run goes on
         return _grader_error(spec, source, exc, started)
 
 
-def _grade_in(ws, spec: UnitSpec, source, sanitized, readonly: list[str], started: float) -> dict:
-    """Steps 2–5 of one unit inside its workspace ``ws``."""
+@dataclass
+class _Spare:
+    """A sandbox started ahead of time for this process's next unit: a workspace and kernel of its own."""
+
+    key: tuple
+    stack: contextlib.ExitStack  # holds the workspace
+    ws: Workspace
+    km: SandboxedKernelManager
+
+    def close(self) -> None:
+        try:
+            if self.km.has_kernel:
+                self.km.shutdown_kernel(now=True)
+        finally:
+            self.stack.close()
+
+
+_spare: _Spare | None = None
+_prestarting = False
+
+
+def prestart_kernels(enabled: bool = True) -> None:
+    """Whether this process launches each next unit's sandbox while it verifies the current unit.
+
+    Grading workers turn it on (``grader.pipeline.run``, ``grader.pipeline.distributed``):
+    the next kernel then boots while this unit is verified, recorded and shipped. Off by
+    default, so that a lone ``grade_unit`` call leaves nothing running. A pre-started sandbox
+    is new (workspace, kernel, process cap) and serves exactly one unit; it is discarded
+    unless that unit's limits are the ones it was started with, and at this process's exit.
+    """
+    global _prestarting
+    _prestarting = enabled
+    if enabled:
+        _register_discard()
+    else:
+        _discard_spare()
+
+
+@functools.cache
+def _register_discard() -> None:
+    atexit.register(_discard_spare)
+    multiprocessing.util.Finalize(None, _discard_spare, exitpriority=100)  # pool workers exit without atexit
+
+
+def _discard_spare() -> None:
+    global _spare
+    spare, _spare = _spare, None
+    if spare is not None:
+        spare.close()
+
+
+def _sandbox_key(spec: UnitSpec, readonly: list[str]) -> tuple:
+    """What a pre-started sandbox was made for: the unit's limits and the course paths it may read."""
+    return (spec.disk_bytes, spec.memory_bytes, spec.max_processes, tuple(map(str, readonly)))
+
+
+@contextlib.contextmanager
+def _sandbox(spec: UnitSpec, readonly: list[str]):
+    """``(workspace, kernel or None)`` for one unit: the spare started for it, else a new workspace."""
+    global _spare
+    spare, _spare = _spare, None
+    if spare is not None and (spare.key != _sandbox_key(spec, readonly) or not spare.km.is_alive()):
+        spare.close()
+        spare = None
+    if spare is None:
+        with workspace(spec.disk_bytes) as ws:
+            yield ws, None
+        return
+    try:
+        yield spare.ws, spare.km
+    finally:
+        spare.close()  # execute shut the kernel down already, unless the unit failed before it ran
+
+
+def _prestart_next(spec: UnitSpec, readonly: list[str]) -> None:
+    """Launch the sandbox of this process's next unit, assuming it has ``spec``'s limits (a class's units do)."""
+    global _spare
+    _discard_spare()
+    stack = contextlib.ExitStack()
+    try:
+        ws = stack.enter_context(workspace(spec.disk_bytes))
+        km = prestart(ws.work, _execute_options(spec, readonly, ws))
+    except Exception:  # noqa: BLE001 - the next unit starts its own sandbox, as without a spare
+        stack.close()
+        log.warning("could not pre-start the next unit's sandbox", exc_info=True)
+        return
+    _spare = _Spare(_sandbox_key(spec, readonly), stack, ws, km)
+
+
+def _execute_options(spec: UnitSpec, readonly: list[str], ws: Workspace) -> ExecuteOptions:
+    return ExecuteOptions(
+        timeout=spec.timeout,
+        wall=spec.wall,
+        memory_bytes=spec.memory_bytes,
+        max_processes=spec.max_processes,
+        readonly=[Path(p) for p in readonly],
+        runtime_root=ws.kernels,
+    )
+
+
+def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSpec, source, sanitized, readonly: list[str], started: float) -> dict:
+    """Steps 2–5 of one unit inside its workspace ``ws`` (with ``kernel``, launched there ahead of time, if not None)."""
     cells = graded_cells(source)
     workdir = ws.work
     fixtures, outputs = workdir / "fixtures", workdir / "outputs"
@@ -184,15 +292,11 @@ def _grade_in(ws, spec: UnitSpec, source, sanitized, readonly: list[str], starte
         workdir,
         fixtures,
         outputs,
-        ExecuteOptions(
-            timeout=spec.timeout,
-            wall=spec.wall,
-            memory_bytes=spec.memory_bytes,
-            max_processes=spec.max_processes,
-            readonly=[Path(p) for p in readonly],
-            runtime_root=ws.kernels,
-        ),
+        _execute_options(spec, readonly, ws),
+        kernel=kernel,
     )
+    if _prestarting:  # the student's kernel is gone: the next unit's boots while this one is verified
+        _prestart_next(spec, readonly)
     tests, results = [], []
     for cell in cells:
         if cell.function in broken:

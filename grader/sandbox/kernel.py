@@ -257,6 +257,23 @@ class SandboxedKernelManager(KernelManager):
 
     pre_start_kernel = run_sync(_async_pre_start_kernel)
 
+    def launch(self, **kw) -> None:
+        """Start the kernel's process and return at once, without waiting for it to boot.
+
+        :meth:`finish_start` completes the start (waits for the sockets, seals them, connects
+        the control socket); until then no client should talk to the kernel. ``start_kernel``
+        is ``launch`` then ``finish_start``. A kernel launched ahead of time boots while the
+        grader does other work (``grader.pipeline.unit`` pre-starts the next unit's sandbox).
+        """
+        self._attempted_start = True
+        kernel_cmd, kw = self.pre_start_kernel(**kw)
+        self._launch_kernel(kernel_cmd, **kw)
+        self._launch_kw = kw
+
+    def finish_start(self) -> None:
+        """Complete a :meth:`launch`: wait for the kernel's sockets and seal them."""
+        self.post_start_kernel(**self._launch_kw)
+
     async def _async_launch_kernel(self, kernel_cmd: list[str], **kw) -> None:
         await super()._async_launch_kernel(kernel_cmd, **kw)
         # Remember the launcher with its start time: once jupyter_client has
