@@ -17,6 +17,7 @@ import hashlib
 import json
 import logging
 import multiprocessing.util
+import threading
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -189,8 +190,23 @@ class _Spare:
             self.stack.close()
 
 
-_spare: _Spare | None = None
+# One spare per thread that grades (a Dask worker may run several): a kernel is tied to the thread
+# that launched it (bwrap --die-with-parent), and a spare taken by one unit is gone for every other.
+_spares: dict[int, _Spare] = {}
+_spares_lock = threading.Lock()
 _prestarting = False
+
+
+def _take_spare() -> _Spare | None:
+    """This thread's spare, removed from the pool of spares: no other unit can be handed it."""
+    with _spares_lock:
+        return _spares.pop(threading.get_ident(), None)
+
+
+def spare_sandbox() -> _Spare | None:
+    """The sandbox pre-started for this thread's next unit, if any (for tests and benchmarks)."""
+    with _spares_lock:
+        return _spares.get(threading.get_ident())
 
 
 def prestart_kernels(enabled: bool = True) -> None:
@@ -207,19 +223,20 @@ def prestart_kernels(enabled: bool = True) -> None:
     if enabled:
         _register_discard()
     else:
-        _discard_spare()
+        _discard_spares()
 
 
 @functools.cache
 def _register_discard() -> None:
-    atexit.register(_discard_spare)
-    multiprocessing.util.Finalize(None, _discard_spare, exitpriority=100)  # pool workers exit without atexit
+    atexit.register(_discard_spares)
+    multiprocessing.util.Finalize(None, _discard_spares, exitpriority=100)  # pool workers exit without atexit
 
 
-def _discard_spare() -> None:
-    global _spare
-    spare, _spare = _spare, None
-    if spare is not None:
+def _discard_spares() -> None:
+    with _spares_lock:
+        spares = list(_spares.values())
+        _spares.clear()
+    for spare in spares:
         spare.close()
 
 
@@ -231,8 +248,7 @@ def _sandbox_key(spec: UnitSpec, readonly: list[str]) -> tuple:
 @contextlib.contextmanager
 def _sandbox(spec: UnitSpec, readonly: list[str]):
     """``(workspace, kernel or None)`` for one unit: the spare started for it, else a new workspace."""
-    global _spare
-    spare, _spare = _spare, None
+    spare = _take_spare()
     if spare is not None and (spare.key != _sandbox_key(spec, readonly) or not spare.km.is_alive()):
         spare.close()
         spare = None
@@ -248,8 +264,9 @@ def _sandbox(spec: UnitSpec, readonly: list[str]):
 
 def _prestart_next(spec: UnitSpec, readonly: list[str]) -> None:
     """Launch the sandbox of this process's next unit, assuming it has ``spec``'s limits (a class's units do)."""
-    global _spare
-    _discard_spare()
+    old = _take_spare()
+    if old is not None:
+        old.close()
     stack = contextlib.ExitStack()
     try:
         ws = stack.enter_context(workspace(spec.disk_bytes))
@@ -258,7 +275,8 @@ def _prestart_next(spec: UnitSpec, readonly: list[str]) -> None:
         stack.close()
         log.warning("could not pre-start the next unit's sandbox", exc_info=True)
         return
-    _spare = _Spare(_sandbox_key(spec, readonly), stack, ws, km)
+    with _spares_lock:
+        _spares[threading.get_ident()] = _Spare(_sandbox_key(spec, readonly), stack, ws, km)
 
 
 def _execute_options(spec: UnitSpec, readonly: list[str], ws: Workspace) -> ExecuteOptions:

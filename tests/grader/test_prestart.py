@@ -8,8 +8,7 @@ import nbformat
 import pytest
 
 from grader.corpus import student_notebook, teaching_cell
-from grader.pipeline import unit as unit_module
-from grader.pipeline.unit import UnitSpec, grade_unit, prestart_kernels
+from grader.pipeline.unit import UnitSpec, grade_unit, prestart_kernels, spare_sandbox
 from grader.sandbox.bwrap import bwrap_available
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -56,7 +55,7 @@ def prestarting():
 def test_each_unit_gets_a_new_sandbox_pre_started_for_it_alone(spec_of, prestarting):
     readonly = [os.path.join(REPO, "data"), os.path.join(REPO, "starter")]
     first = grade_unit(spec_of("ada"), readonly)
-    spare = unit_module._spare
+    spare = spare_sandbox()
     assert spare is not None and spare.km.is_alive()  # launched while ada's outputs were verified
     second = grade_unit(spec_of("bob"), readonly)
     assert first["score"] == second["score"] == first["max_score"]
@@ -66,13 +65,13 @@ def test_each_unit_gets_a_new_sandbox_pre_started_for_it_alone(spec_of, prestart
     assert [n for n in seen1 if n.startswith("left-by-")] == []  # each probe lists its workdir, then writes
     assert [n for n in seen2 if n.startswith("left-by-")] == []  # so a name here could only be ada's
     assert not os.path.exists(cwd1) and not os.path.exists(cwd2)  # both workspaces removed after their unit
-    assert unit_module._spare is not spare and unit_module._spare.ws.work != spare.ws.work  # never handed out twice
+    assert spare_sandbox() is not spare and spare_sandbox().ws.work != spare.ws.work  # never handed out twice
 
 
 def test_a_unit_with_other_limits_gets_a_sandbox_with_its_own_limits(spec_of, prestarting):
     readonly = [os.path.join(REPO, "data"), os.path.join(REPO, "starter")]
     grade_unit(spec_of("ada"), readonly)
-    spare = unit_module._spare
+    spare = spare_sandbox()
     smaller = 3 * 2**30
     result = grade_unit(spec_of("bob", memory_bytes=smaller), readonly)
     cwd, _, limit, _ = _probe(result)
@@ -86,14 +85,27 @@ def test_turning_pre_start_off_leaves_no_kernel_or_workspace(spec_of):
     prestart_kernels()
     try:
         grade_unit(spec_of("ada"), readonly)
-        spare = unit_module._spare
+        spare = spare_sandbox()
         assert spare is not None
     finally:
         prestart_kernels(False)
-    assert unit_module._spare is None
+    assert spare_sandbox() is None
     assert not spare.km.is_alive() and not os.path.exists(spare.ws.root)
 
 
 def test_a_lone_grade_unit_call_pre_starts_nothing(spec_of):
     grade_unit(spec_of("ada"), [os.path.join(REPO, "data"), os.path.join(REPO, "starter")])
-    assert unit_module._spare is None
+    assert spare_sandbox() is None
+
+
+def test_a_spare_belongs_to_the_thread_that_launched_it(spec_of, prestarting):
+    import threading
+
+    readonly = [os.path.join(REPO, "data"), os.path.join(REPO, "starter")]
+    grade_unit(spec_of("ada"), readonly)
+    mine = spare_sandbox()
+    seen = []
+    other = threading.Thread(target=lambda: seen.append(spare_sandbox()))
+    other.start()
+    other.join()
+    assert mine is not None and seen == [None]  # another grading thread never gets this thread's kernel
