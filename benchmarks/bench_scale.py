@@ -98,12 +98,19 @@ class _CpuMeter:
         return int(text.split("usage_usec")[1].split()[0]) / 1e6
 
     def close(self) -> None:
-        if self.group is not None:
-            (self.parent / "cgroup.procs").write_text(str(os.getpid()))
+        if self.group is None:
+            return
+        (self.parent / "cgroup.procs").write_text(str(os.getpid()))
+        deadline = time.monotonic() + 30
+        while True:  # processes this benchmark started (Dask's, multiprocessing's helpers) may still be exiting
             try:
-                self.group.rmdir()  # fails while a process started here still lives: left for the OS
+                self.group.rmdir()
+                return
             except OSError:
-                pass
+                if time.monotonic() > deadline:
+                    print(f"note: {self.group} still holds processes; remove it once they exit")
+                    return
+                time.sleep(0.5)
 
 
 def _machine_idle() -> tuple[float, float]:
