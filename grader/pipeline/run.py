@@ -28,7 +28,7 @@ from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
 from grader.pipeline.sanitize import read_submission_bytes
 from grader.pipeline.submitted import student_folders
-from grader.pipeline.unit import UnitSpec, grade_unit, load_submission, zero_result
+from grader.pipeline.unit import UnitSpec, grade_unit, load_submission, prestart_kernels, zero_result
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES, remove_stale_limits
 from grader.sandbox.workspace import remove_stale_workspaces
@@ -56,6 +56,8 @@ def _worker_init() -> None:
     # Each worker is one of N parallel graders: one BLAS thread each keeps N cores busy, not N².
     for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ[var] = "1"
+    # A worker grades unit after unit: each next unit's sandbox boots while the last is verified.
+    prestart_kernels()
 
 
 def find_submission(folder: Path, notebook: str) -> tuple[Path | None, list[str]]:

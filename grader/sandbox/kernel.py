@@ -19,6 +19,7 @@ from __future__ import annotations
 import asyncio
 import dataclasses
 import functools
+import importlib.util
 import logging
 import os
 import shutil
@@ -27,7 +28,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from queue import Empty
+
 from jupyter_client import BlockingKernelClient, KernelManager
+from jupyter_client.asynchronous import AsyncKernelClient
 from jupyter_client.kernelspec import KernelSpec
 from jupyter_core.utils import run_sync
 from traitlets import DottedObjectName
@@ -36,7 +40,7 @@ from grader.sandbox.bwrap import SandboxSpec, sandbox_user_namespace, wrap_comma
 from grader.sandbox.limits import Process, is_running, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process, process_tree
 from grader.sandbox.process_limit import ProcessLimit, namespace_cap_prefix, pids_parent
 
-__all__ = ["SandboxedKernelManager", "peak_memory_bytes"]
+__all__ = ["SandboxedKernelManager", "SandboxedKernelClient", "peak_memory_bytes"]
 
 log = logging.getLogger(__name__)
 
@@ -46,6 +50,54 @@ _MAX_SOCKET_PATH = 107
 _SEALED_UID = 65534
 # How long start-up waits for the kernel's sockets before sealing what is there.
 _SOCKETS_TIMEOUT = 60.0
+# How long one kernel_info request waits for its reply, and then for its "idle" on IOPub, before asking again.
+_READY_ATTEMPT = 1.0
+
+
+class SandboxedKernelClient(AsyncKernelClient):
+    """jupyter_client's asynchronous client, ready as soon as the kernel is.
+
+    jupyter_client's ``wait_for_ready`` ends by draining IOPub until it stays
+    silent for 0.2 s, and checks that IOPub is connected with another 0.2 s
+    wait: at least 0.2 s of idling per kernel start. Here the kernel is ready
+    when it has answered a ``kernel_info`` request on the shell channel *and*
+    reported ``idle`` for that same request on IOPub, which proves the IOPub
+    subscription is live. Both are awaited as messages, not timeouts. Messages
+    of other requests left in the channels do no harm: nbclient reads only the
+    replies and outputs of the cell it runs (it matches the parent ``msg_id``).
+    """
+
+    async def _ready_wait_for_ready(self, timeout: float | None = None) -> None:
+        deadline = time.monotonic() + (float("inf") if timeout is None else timeout)
+        while True:
+            msg_id = self.kernel_info()
+            reply = await self._message_of(self.shell_channel, msg_id, lambda m: m["msg_type"] == "kernel_info_reply", deadline)
+            if reply is not None:
+                idle = await self._message_of(
+                    self.iopub_channel, msg_id, lambda m: m["msg_type"] == "status" and m["content"].get("execution_state") == "idle", deadline
+                )
+                if idle is not None:
+                    self._handle_kernel_info_reply(reply)
+                    return
+            if not await self._async_is_alive():
+                raise RuntimeError("Kernel died before replying to kernel_info")
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"Kernel didn't respond in {timeout:.0f} seconds")
+
+    wait_for_ready = _ready_wait_for_ready
+
+    @staticmethod
+    async def _message_of(channel, msg_id: str, wanted, deadline: float) -> dict | None:
+        """The first message on ``channel`` answering ``msg_id`` that ``wanted`` accepts, within one attempt; None if none came."""
+        until = min(deadline, time.monotonic() + _READY_ATTEMPT)
+        while (left := until - time.monotonic()) > 0:
+            try:
+                msg = await channel.get_msg(timeout=left)
+            except Empty:
+                return None
+            if msg.get("parent_header", {}).get("msg_id") == msg_id and wanted(msg):
+                return msg
+        return None
 
 
 class SandboxedKernelManager(KernelManager):
@@ -74,7 +126,7 @@ class SandboxedKernelManager(KernelManager):
     in its own session cannot outlive it.
 
     The manager's own methods are synchronous, but :meth:`client` returns an
-    ``AsyncKernelClient``, which is what nbclient needs: with a blocking client
+    ``AsyncKernelClient`` (:class:`SandboxedKernelClient`), which is what nbclient needs: with a blocking client
     nbclient's wait for a hung cell's output blocks its event loop, so its
     cell timeout never fires. Use :meth:`blocking_client` to drive the kernel
     from synchronous code.
@@ -94,7 +146,7 @@ class SandboxedKernelManager(KernelManager):
     launcher: Process | None = None
     namespace_cap: int | None = None  # RLIMIT_NPROC applied inside the sandbox, when no cgroup caps it
 
-    client_class = DottedObjectName("jupyter_client.asynchronous.AsyncKernelClient", config=True)
+    client_class = DottedObjectName("grader.sandbox.kernel.SandboxedKernelClient", config=True)
 
     pid_namespace: str | None = None  # the sandbox's, e.g. "pid:[4026532771]", once seen
 
@@ -149,7 +201,11 @@ class SandboxedKernelManager(KernelManager):
         # Inside the pid namespace the kernel's parent is bwrap's pid 1; saying so
         # keeps ipykernel from polling a parent pid it cannot see and from
         # printing its "ipython kernel entry point" note on the grader's stdout.
-        spec = dataclasses.replace(self.sandbox_spec, env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env})
+        spec = dataclasses.replace(
+            self.sandbox_spec,
+            env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env},
+            hide=[*self.sandbox_spec.hide, *_debugger_paths()],
+        )
         kernel = super().format_kernel_cmd(extra_arguments)
         if self.namespace_cap is not None:
             kernel = [*namespace_cap_prefix(self.namespace_cap), *kernel]
@@ -200,6 +256,23 @@ class SandboxedKernelManager(KernelManager):
         return await super()._async_pre_start_kernel(**kw)
 
     pre_start_kernel = run_sync(_async_pre_start_kernel)
+
+    def launch(self, **kw) -> None:
+        """Start the kernel's process and return at once, without waiting for it to boot.
+
+        :meth:`finish_start` completes the start (waits for the sockets, seals them, connects
+        the control socket); until then no client should talk to the kernel. ``start_kernel``
+        is ``launch`` then ``finish_start``. A kernel launched ahead of time boots while the
+        grader does other work (``grader.pipeline.unit`` pre-starts the next unit's sandbox).
+        """
+        self._attempted_start = True
+        kernel_cmd, kw = self.pre_start_kernel(**kw)
+        self._launch_kernel(kernel_cmd, **kw)
+        self._launch_kw = kw
+
+    def finish_start(self) -> None:
+        """Complete a :meth:`launch`: wait for the kernel's sockets and seal them."""
+        self.post_start_kernel(**self._launch_kw)
 
     async def _async_launch_kernel(self, kernel_cmd: list[str], **kw) -> None:
         await super()._async_launch_kernel(kernel_cmd, **kw)
@@ -294,6 +367,19 @@ class SandboxedKernelManager(KernelManager):
 
 
 @functools.cache
+def _debugger_paths() -> tuple[Path, ...]:
+    """Where debugpy is installed: masked in every sandbox, so ipykernel starts without its debugger.
+
+    Nothing in grading uses the debugger (no front end attaches, there is no network), and
+    importing it is about a fifth of the kernel's start-up imports.
+    """
+    found = importlib.util.find_spec("debugpy")
+    if found is None or not found.submodule_search_locations:
+        return ()
+    return tuple(Path(p).resolve() for p in found.submodule_search_locations)
+
+
+@functools.cache
 def _warn_without_process_limit() -> None:
     log.warning(
         "no writable pids cgroup (and, as root or without user namespaces, no RLIMIT_NPROC per sandbox): "
@@ -316,4 +402,8 @@ def peak_memory_bytes(km: SandboxedKernelManager) -> int | None:
         processes (the kernel's own peak, unless a child it started peaked
         higher); ``None`` if no kernel is running. Call it before shutdown.
     """
+    if km.process_limit is not None:
+        # Every process of the sandbox is in its pids cgroup from its first instruction and cannot
+        # leave it (no cgroup filesystem, no capabilities inside): one small read, not two /proc scans.
+        return peak_rss_bytes(km.process_limit.pids())
     return peak_rss_bytes(p.pid for p in km._sandbox_processes())

@@ -462,3 +462,61 @@ def test_shutdown_kills_by_pid_namespace_not_by_what_command_lines_say(tmp_path)
     finally:
         bystander.kill()
         bystander.wait()
+
+
+def test_peak_memory_counts_a_child_process_of_the_kernel(kernel):
+    spec, kc, km = kernel
+    _run(kc, """
+        import subprocess, sys
+        child = subprocess.Popen([sys.executable, "-c", "b = bytearray(400 * 2**20); import time; time.sleep(60)"])
+        import time
+        for _ in range(200):
+            with open(f"/proc/{child.pid}/status") as f:
+                if int(next(l for l in f if l.startswith("VmHWM")).split()[1]) > 400 * 2**10:
+                    break
+            time.sleep(0.05)
+    """)
+    try:
+        assert peak_memory_bytes(km) >= 400 * 2**20
+    finally:
+        _run(kc, "child.kill(); child.wait()")
+
+
+def test_the_debugger_is_masked_and_the_kernel_starts_without_it(kernel):
+    spec, kc, km = kernel
+    out, reply = _run(kc, """
+        try:
+            from debugpy.server import api
+            print("debugger importable")
+        except ImportError:
+            print("no debugger")
+    """)
+    assert reply["status"] == "ok"
+    assert out.strip() == "no debugger"
+
+
+def test_a_kernel_is_ready_for_nbclient_as_soon_as_it_answers_and_a_first_cell_gets_all_its_output(tmp_path):
+    spec = _course(tmp_path)
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("print('first'); 6 * 7")])
+    NotebookClient(nb, km=SandboxedKernelManager(spec), timeout=60, kernel_name="python3").execute()
+    outputs = nb.cells[0].outputs
+    assert [o.output_type for o in outputs] == ["stream", "execute_result"]
+    assert outputs[0].text == "first\n" and outputs[1].data["text/plain"] == "42"
+
+
+def test_waiting_for_a_kernel_that_dies_during_start_up_raises_a_clear_error(tmp_path):
+    from jupyter_core.utils import run_sync
+
+    spec = SandboxSpec(workdir=tmp_path)
+    km = SandboxedKernelManager(spec, runtime_root=tmp_path.parent)
+    # A "kernel" that exits at once, in the same sandbox.
+    km.format_kernel_cmd = lambda extra_arguments=None: wrap_command([sys.executable, "-c", "import sys; sys.exit(3)"], spec)
+    try:
+        km.start_kernel()
+        kc = km.client()
+        kc.start_channels()
+        with pytest.raises(RuntimeError, match="died before replying to kernel_info"):
+            run_sync(kc.wait_for_ready)(timeout=30)
+        kc.stop_channels()
+    finally:
+        km.shutdown_kernel(now=True)
