@@ -48,11 +48,12 @@ def box_qp(H, G, tol=1e-10):
     vertices are few (a set C), ordering C last in one sparse factorization of
     ``H`` gives the Schur complement K of ``H`` onto C, and every step is a
     small dense solve on C; if the solution then leaves the box outside C, C
-    grows and the solve repeats. When C is large, every step factors the free
-    block of ``H`` in the fill-reducing order of ``H``, computed once, and the
-    iterations stop as soon as the KKT conditions hold to ``tol``: the last
-    steps of an exact active-set solver only move variables within 1e-7 of a
-    bound.
+    grows and the solve repeats. When C is large, the iterations start from
+    the out-of-box regions shrunk by three rings of ``H``'s stencil, every step
+    factors the free block of ``H`` in the fill-reducing order of ``H``,
+    computed once, and the iterations stop as soon as the KKT conditions hold
+    to ``tol``: the last steps of an exact active-set solver only move
+    variables within 1e-7 of a bound.
     """
     if sp.issparse(H):
         H = sp.csc_matrix(H, dtype=np.float64)
