@@ -1,11 +1,20 @@
-"""Execution time of each instructor notebook with the reference solution, pictures on.
+"""Execution time of each instructor (source) notebook with the teaching solutions, pictures on.
 
-Target (issue 3): each notebook <= 20 s wall on 2 cores, the set <= 90 s.
+The source notebooks are built from ``notebooks/deformation`` as ``deformlab build``
+builds them: their solution cells hold the teaching solutions (the lecture's
+method, not ``reference/``), and their tests cells run the public tests plus the
+hidden checks, which call ``reference/`` as the oracle. This is what a student
+waits for, running a notebook top to bottom, plus the hidden checks.
+
+Target (issues 3 and 10): each notebook <= 20 s wall on 2 cores, the set <= 90 s.
+Wall time under a shared machine's load is inflated: the figures also give the
+kernel's CPU time (user + system of the reaped kernel process, ``RUSAGE_CHILDREN``).
 """
 
 from __future__ import annotations
 
 import os
+import resource
 import tempfile
 import time
 from pathlib import Path
@@ -18,6 +27,12 @@ from grader.build.source_notebook import build_sources
 from grader.paths import course_paths
 
 
+def _children_cpu() -> float:
+    """User + system seconds of this process's finished (reaped) children: the kernels."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def main() -> dict:
     paths = course_paths()
     figures: dict = {}
@@ -27,13 +42,14 @@ def main() -> dict:
         total = 0.0
         for path in sources:
             nb = nbformat.read(path, as_version=4)
-            start = time.perf_counter()
+            start, cpu_start = time.perf_counter(), _children_cpu()
             NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}},
                            extra_arguments=QUIET_KERNEL).execute()
-            seconds = time.perf_counter() - start
+            seconds, cpu = time.perf_counter() - start, _children_cpu() - cpu_start
             total += seconds
             figures[f"{path.stem} (s)"] = seconds
-            print(f"{path.stem:<22} {seconds:6.1f} s (target <= 20 s)")
+            figures[f"{path.stem} kernel CPU (s)"] = cpu
+            print(f"{path.stem:<22} {seconds:6.1f} s (target <= 20 s), kernel CPU {cpu:5.1f} s")
         figures["all notebooks (s)"] = total
         print(f"{'all notebooks':<22} {total:6.1f} s (target <= 90 s)")
     return figures

@@ -2,7 +2,8 @@
 
 Run ``.venv/bin/python data/make_meshes.py`` (or ``--out DIR`` to write
 elsewhere). Each mesh becomes ``<name>.npz`` holding ``V`` (float64), ``F``
-(int64) and its handle sets: a set that is one index array is stored as
+(int64; triangles ``(f, 3)``, or tetrahedra ``(f, 4)`` for the volumetric
+meshes ``*_tet``) and its handle sets: a set that is one index array is stored as
 ``handles/<set>``, a set that is a list of arrays as ``handles/<set>/<k>``.
 
 ``np.savez`` stamps every archive member with the current time, so reruns
@@ -41,6 +42,108 @@ GENERATED = {
 }
 # name -> pyvista.examples loader; the files ship inside the pyvista wheel.
 PYVISTA = {"ant": "load_ant", "nut": "load_nut", "sphere": "load_sphere"}
+
+# Kuhn's split of the unit cube into 6 tetrahedra along its main diagonal: one
+# per order in which the path from corner (0,0,0) to (1,1,1) steps along the
+# axes. Neighbouring cubes split their shared square along the same diagonal,
+# so the tetrahedra of any set of grid cubes form a conforming mesh.
+_KUHN_ORDERS = ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0))
+# Voxel size of the hand and its boxes in voxels: (x0, x1, y0, y1, z0, z1).
+HAND_VOXEL = 0.1
+HAND_BOXES = {
+    "palm": (0, 11, 0, 10, 0, 4),
+    "index": (0, 2, 10, 17, 0, 4),
+    "middle": (3, 5, 10, 18, 0, 4),
+    "ring": (6, 8, 10, 17, 0, 4),
+    "little": (9, 11, 10, 15, 0, 4),
+    "thumb": (-6, 0, 3, 5, 0, 4),
+}
+# Bones of the hand, as grid points (voxel units) on the mid-plane z = 2: the
+# palm's from the wrist to the middle knuckle, then one per finger from its
+# knuckle to near its tip. Handle k is every vertex on segment k.
+HAND_BONES = {
+    "palm": ((4, 1, 2), (4, 9, 2)),
+    "index": ((1, 10, 2), (1, 16, 2)),
+    "middle": ((4, 10, 2), (4, 17, 2)),
+    "ring": ((7, 10, 2), (7, 16, 2)),
+    "little": ((10, 10, 2), (10, 14, 2)),
+    "thumb": ((-1, 4, 2), (-5, 4, 2)),
+}
+
+
+def voxel_tetrahedra(voxels: np.ndarray, size: float) -> tuple[np.ndarray, np.ndarray]:
+    """Positively oriented tetrahedra filling a set of grid cubes (Kuhn's split).
+
+    Parameters
+    ----------
+    voxels : (c, 3) array_like of int
+        Integer corner ``(i, j, k)`` of each cube ``[i, i+1] x [j, j+1] x [k, k+1]``.
+    size : float
+        Edge length of a cube.
+
+    Returns
+    -------
+    V : (n, 3) numpy.ndarray of float64
+        The cubes' corners, ``size`` times their grid coordinates, sorted
+        lexicographically by ``(i, j, k)``.
+    T : (6 c, 4) numpy.ndarray of int64
+        Six tetrahedra per cube, each with positive volume ``size³ / 6``.
+    """
+    voxels = np.asarray(voxels, dtype=np.int64)
+    paths = []
+    for order in _KUHN_ORDERS:
+        steps = np.eye(3, dtype=np.int64)[list(order)]
+        path = np.vstack([np.zeros(3, dtype=np.int64), np.cumsum(steps, axis=0)])
+        if np.linalg.det(steps) < 0:  # an odd order walks a negatively oriented tetrahedron
+            path = path[[0, 2, 1, 3]]
+        paths.append(path)
+    corners = voxels[:, None, None, :] + np.array(paths)[None]  # (c, 6, 4, 3)
+    grid, index = np.unique(corners.reshape(-1, 3), axis=0, return_inverse=True)
+    T = index.reshape(-1, 4).astype(np.int64)
+    return size * grid.astype(np.float64), T
+
+
+def box_voxels(x0, x1, y0, y1, z0, z1) -> np.ndarray:
+    """Integer corners of the cubes filling ``[x0, x1] x [y0, y1] x [z0, z1]``."""
+    axes = np.meshgrid(np.arange(x0, x1), np.arange(y0, y1), np.arange(z0, z1), indexing="ij")
+    return np.stack([a.ravel() for a in axes], axis=1)
+
+
+def bar_tet(length=4.0, width=1.0, height=1.0, nx=24, ny=6, nz=6):
+    """The volumetric bar ``[0, length] x [0, width] x [0, height]``: ``nx ny nz`` boxes, 6 tetrahedra each.
+
+    Returns
+    -------
+    V : (n, 3) numpy.ndarray of float64
+    T : (6 nx ny nz, 4) numpy.ndarray of int64
+    """
+    V, T = voxel_tetrahedra(box_voxels(0, nx, 0, ny, 0, nz), 1.0)
+    scale = np.array([length / nx, width / ny, height / nz])
+    return V * scale, T
+
+
+def hand_tet():
+    """A blocky hand (palm, four fingers, thumb) of ``HAND_VOXEL`` cubes, 6 tetrahedra each.
+
+    Returns
+    -------
+    V : (n, 3) numpy.ndarray of float64
+    T : (f, 4) numpy.ndarray of int64
+    bones : list of numpy.ndarray of int64
+        One handle per bone of ``HAND_BONES``: the vertices on the segment,
+        ordered from its first end to its second.
+    """
+    voxels = np.unique(np.vstack([box_voxels(*box) for box in HAND_BOXES.values()]), axis=0)
+    V, T = voxel_tetrahedra(voxels, HAND_VOXEL)
+    grid = np.rint(V / HAND_VOXEL).astype(np.int64)
+    lookup = {tuple(p): i for i, p in enumerate(grid.tolist())}
+    bones = []
+    for start, end in HAND_BONES.values():
+        start, end = np.array(start), np.array(end)
+        count = int(np.abs(end - start).max())
+        points = start + np.outer(np.arange(count + 1), (end - start) // count)
+        bones.append(np.array([lookup[tuple(p)] for p in points.tolist()], dtype=np.int64))
+    return V, T, bones
 
 
 def end_handles(V: np.ndarray, length: float) -> dict[str, np.ndarray]:
@@ -119,6 +222,10 @@ def build_meshes() -> dict[str, dict[str, np.ndarray]]:
     for name, loader in PYVISTA.items():
         V, F = pyvista_mesh(loader)
         out[name] = {"V": V, "F": F}
+    V, T = bar_tet()
+    out["bar_tet"] = {"V": V, "F": T, **{f"handles/{k}": a for k, a in end_handles(V, 4.0).items()}}
+    V, T, bones = hand_tet()
+    out["hand_tet"] = {"V": V, "F": T, **{f"handles/bones/{k}": a for k, a in enumerate(bones)}}
     return out
 
 

@@ -75,6 +75,30 @@ def _cmd_release(args) -> int:
     return 0 if release(assignment=args.assignment, execute=not args.no_execute).ok else 1
 
 
+def _late_policy(args):
+    """(due date, plugin) of a grade run: the flags, else the course's gradebook and nbgrader_config.py."""
+    from grader import late_policy
+    from grader.paths import course_paths
+
+    due = late_policy.parse_due(args.due) if args.due else None
+    if due is None:
+        try:
+            paths = course_paths()
+        except FileNotFoundError:
+            paths = None
+        if paths is not None and (args.db or (paths.course / "gradebook.db").is_file()):
+            due = late_policy.gradebook_due(args.db or paths.gradebook_url, args.assignment)
+    if due is None:
+        if args.late_policy is not None:
+            raise ValueError("--late-policy needs a due date: --due, or the gradebook's "
+                             f"(nbgrader db assignment add {args.assignment} --duedate=...)")
+        return None, None
+    if args.late_policy is not None:
+        return due, late_policy.make_plugin(args.late_policy)
+    paths = course_paths()
+    return due, late_policy.configured_plugin(paths.course / "nbgrader_config.py")
+
+
 def _cmd_grade(args) -> int:
     from grader.pipeline.run import GradeOptions, grade_class
     from grader.paths import course_paths
@@ -95,13 +119,7 @@ def _cmd_grade(args) -> int:
         scheduler=args.scheduler,
         allow_unsandboxed=args.allow_unsandboxed,
     )
-    plugin = due = None
-    if args.due:
-        from grader.late_policy import make_plugin, parse_due
-
-        due, plugin = parse_due(args.due), make_plugin(args.late_policy)
-    elif args.late_policy != "none":
-        raise ValueError("--late-policy needs --due (the assignment's due date)")
+    due, plugin = _late_policy(args)
     results = grade_class(Path(args.submitted), Path(args.out), options)
     if due is not None:
         from grader.late_policy import apply_late_policy
@@ -109,7 +127,7 @@ def _cmd_grade(args) -> int:
         late = apply_late_policy(Path(args.out), Path(args.submitted), args.assignment, due, plugin,
                                  args.db or course_paths().gradebook_url)
         print(f"late: {len(late)} student(s) submitted after {due:%Y-%m-%d %H:%M} UTC"
-              + (f"; penalties (points): " + ", ".join(f"{s} {p:g}" for s, (_, p) in sorted(late.items())[:20]) if late else ""))
+              + ("; penalties (points): " + ", ".join(f"{s} {p:g}" for s, (_, p) in sorted(late.items())[:20]) if late else ""))
     print()
     print(class_summary(results))
     pairs = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
@@ -234,10 +252,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: fresh, recorded in the log)")
     p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
     p.add_argument("--due", default=None,
-                   help="due date, e.g. '2026-11-20 23:59:00 Europe/Paris': lateness is read from nbgrader's timestamp.txt")
-    p.add_argument("--late-policy", default="none",
-                   help="penalty per late notebook, as nbgrader's late-submission plugins: none (default), zero, "
-                        "per-day:FRACTION (e.g. per-day:0.1), or module:Class of an nbgrader plugin")
+                   help="due date, e.g. '2026-11-20 23:59:00 Europe/Paris' (default: the gradebook's, set by "
+                        "'nbgrader db assignment add ASSIGNMENT --duedate=...'); lateness is read from nbgrader's timestamp.txt")
+    p.add_argument("--late-policy", default=None,
+                   help="penalty per late notebook, as nbgrader's late-submission plugins: none, zero, "
+                        "per-day:FRACTION (e.g. per-day:0.1), or module:Class of an nbgrader plugin "
+                        "(default: the plugin nbgrader_config.py sets with c.AssignLatePenalties.plugin_class, "
+                        "configured there, e.g. c.LateSubmissionPlugin.penalty_method = 'zero'; nbgrader's default is none)")
     p.add_argument("--student", default=None, metavar="ID",
                    help="grade this student again (e.g. after a late submission); the others' results in OUT are kept as they are")
     p.add_argument(

@@ -47,12 +47,25 @@ STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
         "fast",
         ("rotation_clusters", "fast_precompute", "fast_energy", "fast_rotations", "fast_global_step", "fast_solve"),
     ),
+    # a stage of LECTURE_CONTRACT.md only: its functions are in LECTURE_STAGES
+    "07_tetrahedra": ("tetrahedra", ()),
 }
 
 #: the functions of ``LECTURE_CONTRACT.md``, taught in a stage after that stage's own:
 #: stage -> (reference module, functions in the order the notebook teaches them)
 LECTURE_STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
     "05_lbs": ("dual_quaternion_skinning", ("dual_quaternions", "dual_quaternion_transforms", "dqs")),
+    "07_tetrahedra": (
+        "tetrahedra",
+        (
+            "tet_volumes",
+            "tet_cotangent_laplacian",
+            "tet_mass_matrix",
+            "deformation_gradients",
+            "tet_arap_rotations",
+            "tet_arap_energy",
+        ),
+    ),
 }
 
 #: stages whose points are bonus: flagged in grades.csv and Gradescope, outside the regular maximum

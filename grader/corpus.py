@@ -126,8 +126,14 @@ def _load_module(path: Path):
     return module
 
 
-def load_entry(path: str | Path) -> CorpusEntry:
+def load_entry(path: str | Path, kind: str | None = None) -> CorpusEntry:
     """Read one corpus file.
+
+    Parameters
+    ----------
+    path : path-like
+    kind : str, optional
+        One of ``KINDS``; default the file's folder name (``tests/corpus/<kind>/``).
 
     Raises
     ------
@@ -141,7 +147,7 @@ def load_entry(path: str | Path) -> CorpusEntry:
         raise ValueError(f"corpus entry {path} lacks {', '.join(missing)}")
     entry = CorpusEntry(
         name=path.stem,
-        kind=path.parent.name,
+        kind=kind or path.parent.name,
         notebook=module.NOTEBOOK,
         description=module.DESCRIPTION,
         solutions=dict(module.SOLUTIONS),

@@ -15,10 +15,8 @@ gradebook records the timestamp and penalty where formgrader shows them.
 
 from __future__ import annotations
 
-import csv
 import html
 import importlib
-import io
 import math
 import re
 from datetime import datetime
@@ -28,6 +26,7 @@ from nbgrader.plugins import BasePlugin, LateSubmissionPlugin
 from traitlets import Float
 
 from grader.pipeline import record
+from grader.spreadsheet import csv_text, read_csv
 
 #: nbgrader writes one line ("2026-11-20 10:00:00.000000 UTC"); the file comes from the student's side of the exchange.
 MAX_TIMESTAMP_BYTES = 256
@@ -77,6 +76,36 @@ def make_plugin(spec: str) -> BasePlugin:
     return cls()
 
 
+def configured_plugin(config_file: Path | None) -> BasePlugin:
+    """The late-submission plugin a course's ``nbgrader_config.py`` sets, as ``nbgrader autograde`` builds it.
+
+    ``c.AssignLatePenalties.plugin_class`` names the class (nbgrader's
+    ``LateSubmissionPlugin`` when unset) and the file configures it, e.g.
+    ``c.LateSubmissionPlugin.penalty_method = "zero"`` or
+    ``c.PerDayPenalty.fraction_per_day = 0.1``.
+    """
+    from nbgrader.preprocessors import AssignLatePenalties
+    from traitlets.config import Config
+    from traitlets.config.loader import PyFileConfigLoader
+
+    config = Config()
+    if config_file is not None and Path(config_file).is_file():
+        config = PyFileConfigLoader(Path(config_file).name, path=str(Path(config_file).parent)).load_config()
+    assigner = AssignLatePenalties(config=config)
+    return assigner.plugin_class(parent=assigner)
+
+
+def gradebook_due(db_url: str, assignment: str) -> datetime | None:
+    """The due date nbgrader's gradebook holds for ``assignment`` (``nbgrader db assignment add NAME --duedate=...``)."""
+    from nbgrader.api import Gradebook, MissingEntry
+
+    with Gradebook(db_url) as gb:
+        try:
+            return gb.find_assignment(assignment).duedate
+        except MissingEntry:
+            return None
+
+
 def parse_due(text: str) -> datetime:
     """A due date as nbgrader reads one (naive UTC), e.g. ``2026-11-20 23:59:00 Europe/Paris``.
 
@@ -118,7 +147,7 @@ def late_line(seconds_late: float, penalty: float) -> str:
 def apply_late_policy(out: Path, submitted: Path, assignment: str, due: datetime, plugin: BasePlugin, db_url: str | None = None) -> dict:
     """Add lateness and penalties to a graded run in ``out``; returns ``{student: (seconds_late, total_penalty)}`` of late students."""
     out = Path(out)
-    rows = list(csv.DictReader(io.StringIO((out / "grades.csv").read_text(encoding="utf-8"))))
+    rows = read_csv(out / "grades.csv")
     late: dict[str, tuple[float, float]] = {}
     times: dict[str, datetime | None] = {}
     for row in rows:
@@ -143,11 +172,7 @@ def apply_late_policy(out: Path, submitted: Path, assignment: str, due: datetime
                 record.write_text_atomic(page, _LATE_LINE.sub(lambda _: line, text, count=1))
         row["seconds_late"] = f"{seconds:g}"
         row["late_penalty"] = f"{penalty or 0:g}"
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, [*record.CSV_HEADER, "seconds_late", "late_penalty"], lineterminator="\n", extrasaction="ignore")
-    writer.writeheader()
-    writer.writerows(rows)
-    record.write_text_atomic(out / "grades.csv", buf.getvalue())
+    record.write_text_atomic(out / "grades.csv", csv_text([*record.CSV_HEADER, "seconds_late", "late_penalty"], rows))
     if db_url:
         _record_in_gradebook(db_url, assignment, due, rows, times)
     return late

@@ -28,6 +28,18 @@ from reference.bounded_biharmonic_weights import (
 )
 from reference.linear_blend_skinning import lbs, lbs_matrix
 from reference.dual_quaternion_skinning import dqs, dual_quaternion_transforms, dual_quaternions
+from reference.tetrahedra import (
+    deformation_gradients,
+    tet_cotangent_laplacian,
+    tet_cotangent_weights,
+    tet_mass_matrix,
+    tet_volumes,
+    tet_arap_energy,
+    tet_arap_global_step,
+    tet_arap_precompute,
+    tet_arap_rotations,
+    tet_arap_solve,
+)
 from reference.fast import (
     fast_energy,
     fast_global_step,
@@ -47,5 +59,8 @@ __all__ = [
     "unconstrained_biharmonic_weights", "bbw",
     "lbs_matrix", "lbs",
     "dual_quaternions", "dual_quaternion_transforms", "dqs",
+    "tet_volumes", "tet_cotangent_weights", "tet_cotangent_laplacian", "tet_mass_matrix",
+    "deformation_gradients", "tet_arap_rotations", "tet_arap_energy", "tet_arap_precompute",
+    "tet_arap_global_step", "tet_arap_solve",
     "rotation_clusters", "fast_precompute", "fast_energy", "fast_rotations", "fast_global_step", "fast_solve",
 ]

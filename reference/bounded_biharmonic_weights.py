@@ -7,6 +7,7 @@ import scipy.sparse.linalg as spla
 
 from reference.arap import cotangent_laplacian
 from reference.box_qp import box_qp
+from reference.tetrahedra import as_tet_mesh, tet_cotangent_laplacian, tet_mass_matrix
 from starter.validation import (
     as_faces,
     as_float_array,
@@ -17,35 +18,63 @@ from starter.validation import (
 )
 
 
+def as_cells(V, F):
+    """Check a mesh of triangles ``(f, 3)`` or tetrahedra ``(f, 4)``, dispatching on the cell size.
+
+    Returns
+    -------
+    V : (n, d) numpy.ndarray of float64
+    F : (f, 3) or (f, 4) numpy.ndarray of int64
+        Triangles without zero area, or tetrahedra (then ``d = 3``) without zero volume.
+    """
+    V = as_vertices(V)
+    if np.ndim(F) == 2 and np.shape(F)[1] == 4:
+        return as_tet_mesh(V, F, name="F")
+    try:
+        F = as_faces(F, len(V))
+    except ValueError as error:
+        if "must have shape" not in str(error):
+            raise
+        raise ValueError(
+            f"F must have shape (f, 3) (triangles) or (f, 4) (tetrahedra) with f >= 1, got shape {np.shape(F)}"
+        ) from None
+    check_no_degenerate_triangles(V, F)
+    return V, F
+
+
 def biharmonic_matrix(V, F):
     """Discrete biharmonic energy matrix ``Q = L M⁻¹ L``.
 
     ``½ wᵀ Q w`` approximates ``½ ∫ (Δw)²``: ``L`` is the cotangent Laplacian
-    and ``M`` the Voronoi (libigl default) lumped mass matrix.
+    and ``M`` the lumped mass matrix (libigl's defaults: Voronoi on
+    triangles, barycentric on tetrahedra).
 
     Parameters
     ----------
     V : (n, d) array_like of float
-        Vertex positions, ``d`` in {2, 3}; every vertex is used by a triangle.
-    F : (f, 3) array_like of int
-        Triangles indexing ``V``, none of zero area.
+        Vertex positions, ``d`` in {2, 3} (3 for tetrahedra); every vertex is
+        used by a cell.
+    F : (f, 3) or (f, 4) array_like of int
+        Triangles indexing ``V``, none of zero area, or tetrahedra, none of
+        zero volume.
 
     Returns
     -------
     Q : (n, n) scipy.sparse.csc_matrix
         Symmetric positive semi-definite; constants are in its null space.
     """
-    V = as_vertices(V)
-    F = as_faces(F, len(V))
-    check_no_degenerate_triangles(V, F)
+    V, F = as_cells(V, F)
     used = np.zeros(len(V), dtype=bool)
     used[F.ravel()] = True
     if not used.all():
         i = int(np.flatnonzero(~used)[0])
         # an unreferenced vertex has zero mass, so M⁻¹ does not exist
-        raise ValueError(f"V has an unreferenced vertex: V[{i}] is used by no triangle in F")
-    L = sp.csc_matrix(cotangent_laplacian(V, F))
-    M = igl.massmatrix(V, F)
+        raise ValueError(f"V has an unreferenced vertex: V[{i}] is used by no cell in F")
+    if F.shape[1] == 4:
+        L, M = tet_cotangent_laplacian(V, F), tet_mass_matrix(V, F)
+    else:
+        L, M = cotangent_laplacian(V, F), igl.massmatrix(V, F)
+    L = sp.csc_matrix(L)
     return sp.csc_matrix(L @ sp.diags(1.0 / M.diagonal()) @ L)
 
 
@@ -146,9 +175,9 @@ def unconstrained_biharmonic_weights(V, F, b, bc):
     Parameters
     ----------
     V : (n, d) array_like of float
-        Vertex positions, ``d`` in {2, 3}.
-    F : (f, 3) array_like of int
-        Triangles indexing ``V``.
+        Vertex positions, ``d`` in {2, 3} (3 for tetrahedra).
+    F : (f, 3) or (f, 4) array_like of int
+        Triangles or tetrahedra indexing ``V`` (see ``biharmonic_matrix``).
     b : (k,) array_like of int
         Distinct constrained vertices; every connected component of the mesh
         needs at least one.
@@ -160,8 +189,7 @@ def unconstrained_biharmonic_weights(V, F, b, bc):
     W : (n, m) numpy.ndarray
         ``W[b] = bc``; ``Q W = 0`` on the other rows, ``Q = biharmonic_matrix(V, F)``.
     """
-    V = as_vertices(V)
-    F = as_faces(F, len(V))
+    V, F = as_cells(V, F)
     b = as_handles(b, len(V), "b")
     bc = as_float_array(bc, "bc", ndim=2)
     if bc.shape[0] != len(b) or bc.shape[1] == 0:
@@ -205,9 +233,9 @@ def bbw(V, F, b, bc):
     Parameters
     ----------
     V : (n, d) array_like of float
-        Vertex positions, ``d`` in {2, 3}.
-    F : (f, 3) array_like of int
-        Triangles indexing ``V``.
+        Vertex positions, ``d`` in {2, 3} (3 for tetrahedra).
+    F : (f, 3) or (f, 4) array_like of int
+        Triangles or tetrahedra indexing ``V`` (see ``biharmonic_matrix``).
     b : (k,) array_like of int
         Distinct constrained vertices; every connected component of the mesh
         needs at least one.
@@ -228,8 +256,7 @@ def bbw(V, F, b, bc):
         If the active-set solver does not converge (it always should: the
         problem is a strictly convex box-constrained quadratic program).
     """
-    V = as_vertices(V)
-    F = as_faces(F, len(V))
+    V, F = as_cells(V, F)
     b = as_handles(b, len(V), "b")
     bc = as_float_array(bc, "bc", ndim=2)
     if bc.shape[0] != len(b) or bc.shape[1] == 0:

@@ -11,7 +11,8 @@ stage 03's spokes-and-rims energy
 
 Expanding the square, ``E = tr(Tstackᵀ Q Tstack) - 2 Σ_c tr(R_c S_c) +
 Σ_c tr(R_c E_c R_cᵀ)`` with ``Q = 3 Mᵀ(-L)M`` (each triangle is in the cells of
-its 3 corners), cluster covariances ``S_c = P_c Tstack`` linear in the
+its 3 corners; on tetrahedra, ``k`` runs over a tetrahedron's 6 edges with
+``tet_cotangent_weights`` and ``Q = 4 Mᵀ(-L)M``), cluster covariances ``S_c = P_c Tstack`` linear in the
 transforms, and rest covariances ``E_c``: ``Q``, ``P`` and ``E`` are computed
 once, so an iteration costs ``O(k d² N + N² d)``, independent of the mesh size.
 """
@@ -25,6 +26,7 @@ import scipy.sparse as sp
 from reference.arap import cotangent_laplacian, cotangent_weights
 from reference.linear_blend_skinning import lbs_matrix
 from reference.sign_correction import optimal_rotation
+from reference.tetrahedra import TET_EDGES, as_tet_mesh, tet_cotangent_laplacian, tet_cotangent_weights
 from starter.validation import (
     as_faces,
     as_float_array,
@@ -131,8 +133,11 @@ def fast_precompute(V, F, W, clusters, fixed):
     ----------
     V : (n, d) array_like of float
         Rest positions, ``d`` in {2, 3}.
-    F : (f, 3) array_like of int
-        Triangles; none may have zero area.
+    F : (f, 3) or (f, 4) array_like of int
+        Triangles, none of zero area; or tetrahedra (``d = 3``), none of
+        zero volume: then each tetrahedron is in the cells of its 4 corners
+        with its 6 edges weighted by ``tet_cotangent_weights``, and
+        ``Q = 4 Mcᵀ(-L)Mc`` with the tetrahedral ``L``.
     W : (n, m) array_like of float
         Skinning weights, one column per handle.
     clusters : (n,) array_like of int
@@ -190,9 +195,15 @@ def fast_precompute(V, F, W, clusters, fixed):
     measure ``<= 1e-13`` (rounding of the product with ``L``), well-posed
     course setups ``>= 1e-3``.
     """
-    V = as_vertices(V)
-    F = as_faces(F, len(V))
-    check_no_degenerate_triangles(V, F)
+    if np.ndim(F) == 2 and np.shape(F)[1] == 4:
+        V, F = as_tet_mesh(V, F, name="F")
+        C, L, pairs = tet_cotangent_weights(V, F), tet_cotangent_laplacian(V, F), TET_EDGES
+    else:
+        V = as_vertices(V)
+        F = as_faces(F, len(V))
+        check_no_degenerate_triangles(V, F)
+        # edge k of a triangle is opposite corner k, the first three of TET_EDGES
+        C, L, pairs = cotangent_weights(V, F), cotangent_laplacian(V, F), TET_EDGES[:3]
     n, d = V.shape
     W = as_float_array(W, "W", ndim=2)
     if W.shape[0] != n or W.shape[1] == 0:
@@ -203,8 +214,7 @@ def fast_precompute(V, F, W, clusters, fixed):
     clusters = as_labels(clusters, n, "clusters")
     fixed = as_handle_indices(fixed, m, "fixed")
     k = int(clusters.max()) + 1
-    C = cotangent_weights(V, F)
-    L = cotangent_laplacian(V, F)
+    corners = F.shape[1]
 
     origin = V.mean(axis=0)
     scale = float(np.sqrt(np.mean(np.sum((V - origin) ** 2, axis=1))))
@@ -215,21 +225,28 @@ def fast_precompute(V, F, W, clusters, fixed):
     from_centred[:d, :d] /= scale
     from_centred[d, :d] = -origin / scale
     M = lbs_matrix((V - origin) / scale, W)
-    Q = 3.0 * (M.T @ -(L @ M))
+    Q = corners * (M.T @ -(L @ M))
     Q = 0.5 * (Q + Q.T)
 
-    # S_c = Σ_{i ∈ c} Σ_{t ∋ i} T_t with T_t = Σ_j P_t[j] u_{F[t, j]}ᵀ (see arap_precompute):
+    # S_c = Σ_{i ∈ c} Σ_{t ∋ i} T_t with T_t = Σ_j P_t[j] u_{F[t, j]}ᵀ (see arap_precompute), P_t[j] the
+    # weighted rest edges e = v_a - v_b of t with sign +1 where j = a, -1 where j = b:
     # H[d c + a, v] sums P_t[j, a] over the corners i, j of t with clusters[F[t, i]] = c, F[t, j] = v
-    E = V[np.roll(F, -1, axis=1)] - V[np.roll(F, -2, axis=1)]
+    E = V[F[:, pairs[:, 0]]] - V[F[:, pairs[:, 1]]]
     weighted = C[:, :, None] * E
-    P_t = np.roll(weighted, 1, axis=1) - np.roll(weighted, -1, axis=1)
-    shape = (len(F), 3, 3, d)
+    if corners == 3:
+        P_t = np.roll(weighted, 1, axis=1) - np.roll(weighted, -1, axis=1)
+    else:
+        incidence = np.zeros((corners, len(pairs)))
+        incidence[pairs[:, 0], np.arange(len(pairs))] = 1.0
+        incidence[pairs[:, 1], np.arange(len(pairs))] = -1.0
+        P_t = np.einsum("je,tea->tja", incidence, weighted)
+    shape = (len(F), corners, corners, d)
     rows = np.broadcast_to(d * clusters[F][:, :, None, None] + np.arange(d), shape)
     cols = np.broadcast_to(F[:, None, :, None], shape)
     vals = np.broadcast_to(P_t[:, None, :, :], shape)
     H = sp.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(k * d, n))
-    corners = sp.csr_matrix(
-        (np.ones(F.size), (clusters[F].ravel(), np.repeat(np.arange(len(F)), 3))), shape=(k, len(F))
+    cells = sp.csr_matrix(
+        (np.ones(F.size), (clusters[F].ravel(), np.repeat(np.arange(len(F)), corners))), shape=(k, len(F))
     )
     rest = np.einsum("tk,tka,tkb->tab", C, E, E).reshape(len(F), d * d)
 
@@ -270,7 +287,7 @@ def fast_precompute(V, F, W, clusters, fixed):
         V=V, F=F, W=W, clusters=clusters, fixed=fixed, free=free, C=C,
         to_centred=to_centred, from_centred=from_centred, quadratic=Q,
         covariance_operator=(H @ M).reshape(k, d, -1),
-        rest_covariances=(corners @ rest).reshape(k, d, d),
+        rest_covariances=(cells @ rest).reshape(k, d, d),
         free_rows=free_rows, fixed_rows=fixed_rows, solver=solver,
         quadratic_free_fixed=Q[np.ix_(free_rows, fixed_rows)],
     )

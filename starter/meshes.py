@@ -71,8 +71,9 @@ def load_mesh(name):
     Returns
     -------
     V : (n, d) numpy.ndarray of float64
-        ``d`` is 2 for the planar meshes, 3 for surfaces.
-    F : (f, 3) numpy.ndarray of int64
+        ``d`` is 2 for the planar meshes, 3 for surfaces and volumes.
+    F : (f, 3) or (f, 4) numpy.ndarray of int64
+        Triangles; tetrahedra for the volumetric meshes (``bar_tet``, ``hand_tet``).
 
     Raises
     ------

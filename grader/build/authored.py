@@ -1,7 +1,8 @@
 """Read an authored notebook (``notebooks/<assignment>/NN_stage.py``) and enforce its rules.
 
 Cell kinds come from the ``deformlab`` metadata on each ``# %%`` line
-(``notebooks/README.md``): text, provided code, solution, tests, short answer.
+(``notebooks/README.md``): text, provided code, solution, tests, short answer,
+exercise (ungraded code the student writes: an experiment's set-up).
 A solution cell holds the teaching solution itself: the function, its docstring,
 and its body between nbgrader's solution markers.
 """
@@ -27,10 +28,10 @@ class AuthoringError(ValueError):
 
 @dataclass
 class AuthoredCell:
-    kind: str  # "text" | "provided" | "solution" | "tests" | "answer"
+    kind: str  # "text" | "provided" | "solution" | "tests" | "answer" | "exercise"
     source: str
     function: str | None = None  # for solution and tests cells
-    answer_id: str | None = None
+    answer_id: str | None = None  # for answer and exercise cells
     points: float = 0.0  # 0 for the public checks of a function graded in an earlier stage
 
 
@@ -144,6 +145,11 @@ def _classify(cell, index: int, path: Path) -> AuthoredCell:
         if not earlier and points <= 0:
             raise AuthoringError(f"{where}: the tests cell for {name} needs positive points")
         return AuthoredCell("tests", cell.source, function=name, points=points)
+    if "exercise" in meta:
+        lines = [line.strip() for line in cell.source.splitlines()]
+        if lines.count(BEGIN_SOLUTION) != 1 or lines.count(END_SOLUTION) != 1 or not solution_body(cell.source).strip():
+            raise AuthoringError(f"{where}: an exercise cell needs one non-empty {BEGIN_SOLUTION} ... {END_SOLUTION} pair")
+        return AuthoredCell("exercise", cell.source, answer_id=str(meta["exercise"]))
     return AuthoredCell("provided", cell.source)
 
 
@@ -185,9 +191,9 @@ def read_authored(path: str | Path) -> AuthoredNotebook:
         early = sorted((used & CONTRACT_NAMES) - solved)
         if early:
             raise AuthoringError(f"{where}: uses {', '.join(early)} before its solution cell")
-        if cell.kind == "provided" and defined & CONTRACT_NAMES:
+        if cell.kind in ("provided", "exercise") and defined & CONTRACT_NAMES:
             raise AuthoringError(
-                f"{where}: a provided cell defines the contract name(s) {sorted(defined & CONTRACT_NAMES)}"
+                f"{where}: {'an exercise' if cell.kind == 'exercise' else 'a provided'} cell defines the contract name(s) {sorted(defined & CONTRACT_NAMES)}"
             )
         if cell.kind == "tests":
             if cell.function in tested:

@@ -59,7 +59,8 @@ STUDENT_README = """# Deformation assignment
 
 Six notebooks, one per stage: `00_meshes` (warm-up), `01_shape_matching`,
 `02_sign_correction`, `03_arap`, `04_bbw`, `05_lbs`, and a seventh for bonus
-points, `06_fast` (ARAP in the skinning subspace). In each, fill in one
+points, `06_fast` (ARAP in the skinning subspace). `07_tetrahedra` takes the
+lecture to volumes: finite elements and ARAP on tetrahedral meshes. In each, fill in one
 function at a time where it says `YOUR CODE HERE`, then run the tests cell below
 it: its messages say what is wrong.
 
@@ -185,6 +186,8 @@ def teaching_bodies(notebooks_dir: Path, assignment: str) -> dict[str, str]:
         for cell in read_authored(path).cells:
             if cell.kind == "solution":
                 bodies[f"teaching {cell.function} ({path.stem})"] = solution_body(cell.source)
+            elif cell.kind == "exercise":
+                bodies[f"exercise {cell.answer_id} ({path.stem})"] = solution_body(cell.source)
     return bodies
 
 
@@ -269,7 +272,10 @@ def check_release_execution(released: list[Path], report: ReleaseReport) -> None
             if cell.cell_type != "code":
                 continue
             meta = cell.metadata.get("nbgrader") or {}
-            uses_contract = bool(referenced_names(cell.source) & CONTRACT_NAMES) if not meta.get("solution") else False
+            if meta.get("solution"):  # an exercise's stub raises until the student writes it
+                uses_contract = str(meta.get("grade_id", "")).startswith("exercise_")
+            else:
+                uses_contract = bool(referenced_names(cell.source) & CONTRACT_NAMES)
             if meta.get("grade") and i not in errors:
                 report.problems.append(f"release {path.name}: tests cell {meta.get('grade_id')} passes with the stubs (vacuous test)")
             elif i in errors and not uses_contract and not meta.get("grade"):

@@ -41,6 +41,10 @@ def answer_grade_id(answer_id: str) -> str:
     return f"answer_{answer_id}"
 
 
+def exercise_grade_id(name: str) -> str:
+    return f"exercise_{name}"
+
+
 def _nbgrader(grade_id: str, *, grade: bool, solution: bool, locked: bool, points: float | None = None) -> dict:
     meta = {"grade": grade, "grade_id": grade_id, "locked": locked, "schema_version": 3, "solution": solution}
     if points is not None:
@@ -85,6 +89,13 @@ def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
                 nbformat.v4.new_code_cell(
                     cell.source,
                     metadata=_nbgrader(f"provided_{provided:02d}_{digest}", grade=False, solution=False, locked=True),
+                )
+            )
+        elif cell.kind == "exercise":  # the student writes the part between the markers; nothing grades it
+            nb.cells.append(
+                nbformat.v4.new_code_cell(
+                    cell.source,
+                    metadata=_nbgrader(exercise_grade_id(cell.answer_id), grade=False, solution=True, locked=False),
                 )
             )
         elif cell.kind == "solution":

@@ -22,10 +22,20 @@ from grader.harness.outputs import CaseOutput
 @functools.cache
 def all_checks() -> dict[str, FunctionChecks]:
     """Contract function name -> its checks, from every stage module."""
-    from grader.checks import arap, bbw, dual_quaternion_skinning, fast, lbs, meshes, rotations, shape_matching
+    from grader.checks import (
+        arap,
+        bbw,
+        dual_quaternion_skinning,
+        fast,
+        lbs,
+        meshes,
+        rotations,
+        shape_matching,
+        tetrahedra,
+    )
 
     found: dict[str, FunctionChecks] = {}
-    for module in (meshes, shape_matching, rotations, arap, bbw, lbs, dual_quaternion_skinning, fast):
+    for module in (meshes, shape_matching, rotations, arap, bbw, lbs, dual_quaternion_skinning, fast, tetrahedra):
         for obj in vars(module).values():
             if isinstance(obj, type) and issubclass(obj, FunctionChecks) and obj.function and obj.__module__ == module.__name__:
                 found[obj.function] = obj()

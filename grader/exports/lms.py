@@ -19,11 +19,11 @@ optional feedback column maps to the item's feedback.
 from __future__ import annotations
 
 import csv
-import io
 from dataclasses import dataclass
 from pathlib import Path
 
 from grader.contract import is_bonus
+from grader.spreadsheet import csv_text, read_csv
 
 CANVAS_IDENTITY = ("Student", "ID", "SIS User ID", "SIS Login ID", "Section")
 
@@ -45,13 +45,12 @@ def totals(grades_csv: Path) -> list[Total]:
         If ``grades_csv`` does not exist.
     """
     by_student: dict[str, Total] = {}
-    with open(grades_csv, encoding="utf-8", newline="") as fh:
-        for row in csv.DictReader(fh):
-            t = by_student.setdefault(row["student_id"], Total(row["student_id"], 0.0, 0.0))
-            t.score += float(row["score"])
-            if not is_bonus(row["notebook"]):
-                t.max_score += float(row["max_score"])
-            t.late_penalty += float(row.get("late_penalty") or 0)
+    for row in read_csv(grades_csv):
+        t = by_student.setdefault(row["student_id"], Total(row["student_id"], 0.0, 0.0))
+        t.score += float(row["score"])
+        if not is_bonus(row["notebook"]):
+            t.max_score += float(row["max_score"])
+        t.late_penalty += float(row.get("late_penalty") or 0)
     for t in by_student.values():
         t.score = max(0.0, round(t.score - t.late_penalty, 4))
     return [by_student[s] for s in sorted(by_student)]
@@ -77,16 +76,12 @@ def canvas_csv(rows: list[Total], column: str, roster: Path | None = None) -> tu
     roster : Path, optional
         Canvas's gradebook export, to carry Canvas's own identity columns.
     """
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow([*CANVAS_IDENTITY, column])
     top = max((t.max_score for t in rows), default=0)
-    writer.writerow(["Points Possible", "", "", "", "", f"{top:g}"])
+    lines = [["Points Possible", "", "", "", "", f"{top:g}"]]
     unmatched = []
     if roster is None:
-        for t in rows:
-            writer.writerow(["", "", t.student_id, t.student_id, "", f"{t.score:g}"])
-        return buf.getvalue(), unmatched
+        lines += [["", "", t.student_id, t.student_id, "", f"{t.score:g}"] for t in rows]
+        return csv_text([*CANVAS_IDENTITY, column], lines), unmatched
     people = _read_roster(roster)
     index = {}
     for person in people:
@@ -98,8 +93,8 @@ def canvas_csv(rows: list[Total], column: str, roster: Path | None = None) -> tu
         if person is None:
             unmatched.append(t.student_id)
             continue
-        writer.writerow([person[c] for c in CANVAS_IDENTITY] + [f"{t.score:g}"])
-    return buf.getvalue(), unmatched
+        lines.append([person[c] for c in CANVAS_IDENTITY] + [f"{t.score:g}"])
+    return csv_text([*CANVAS_IDENTITY, column], lines), unmatched
 
 
 def moodle_csv(rows: list[Total], item: str, identifier: str = "ID number", feedback: dict[str, str] | None = None) -> str:
@@ -114,9 +109,6 @@ def moodle_csv(rows: list[Total], item: str, identifier: str = "ID number", feed
     feedback : dict, optional
         Student id -> feedback text (mapped to the item's feedback on import).
     """
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow([identifier, item] + (["Feedback"] if feedback is not None else []))
-    for t in rows:
-        writer.writerow([t.student_id, f"{t.score:g}"] + ([feedback.get(t.student_id, "")] if feedback is not None else []))
-    return buf.getvalue()
+    header = [identifier, item] + (["Feedback"] if feedback is not None else [])
+    return csv_text(header, ([t.student_id, f"{t.score:g}"] + ([feedback.get(t.student_id, "")] if feedback is not None else [])
+                             for t in rows))

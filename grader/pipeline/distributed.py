@@ -6,7 +6,7 @@ worker processes on this machine. A ``UnitSpec`` is self-contained (submitted
 bytes, instructor notebook, seed, limits), so a worker needs only the installed
 kit; each worker still runs every notebook in its own sandbox and refuses units
 when it has no bubblewrap, unless the TA opts out (``--allow-unsandboxed``).
-Results stream back in order of completion (``as_completed``) to the one process
+Results stream back in order of completion to the one process
 that records them (``grader.pipeline.run``). A worker that dies mid-unit costs
 nothing: the scheduler runs its units again elsewhere, and only a unit that kills
 workers repeatedly is recorded as a grader error.
@@ -15,9 +15,9 @@ workers repeatedly is recorded as a grader error.
 from __future__ import annotations
 
 import functools
-
 import re
 import sys
+import time
 import uuid
 from collections.abc import Callable, Iterator
 
@@ -28,9 +28,17 @@ _LOCAL = re.compile(r"^local:(\d+)$")
 #: Units in flight per worker thread: enough to keep workers busy between results,
 #: few enough that a class's submitted bytes never sit all in this process's memory.
 IN_FLIGHT_PER_THREAD = 3
+#: Seconds between checks that the units in flight can still run somewhere.
+WATCH_SECONDS = 5.0
+#: Seconds units may wait with no worker able to grade them before they are given up.
+STALL_SECONDS = 120.0
 NO_SANDBOX = (
     "no Dask worker can sandbox notebooks (bubblewrap missing or unable to create namespaces there): "
     "install bubblewrap on the workers, or pass --allow-unsandboxed to grade without isolation"
+)
+NO_WORKER = (
+    "no Dask worker able to grade was left in the cluster (the sandboxing workers died or left): "
+    "start workers and grade again; units already graded are kept"
 )
 
 
@@ -116,6 +124,7 @@ def grade_on_dask(
     error_of: Callable[[object, str], dict],
     scheduler: str,
     allow_unsandboxed: bool = False,
+    stall_seconds: float | None = None,
 ) -> Iterator[tuple[object, dict]]:
     """Grade ``todo`` on the cluster; yield ``(unit, result)`` in order of completion.
 
@@ -129,10 +138,15 @@ def grade_on_dask(
         ``(unit, reason) -> result`` of a unit the cluster could not grade.
     scheduler : str
         ``tcp://HOST:PORT`` or ``local:N``.
+    stall_seconds : float, optional
+        How long units may wait without any worker able to grade them (all
+        sandboxing workers gone) before they are recorded as grader errors;
+        default ``STALL_SECONDS``.
     """
-    from distributed import as_completed
+    from distributed import wait
     from distributed.scheduler import KilledWorker
 
+    stall_seconds = STALL_SECONDS if stall_seconds is None else stall_seconds
     client, cluster = connect(scheduler)
     try:
         ready = client.run(_sandbox_ready, allow_unsandboxed)
@@ -141,7 +155,7 @@ def grade_on_dask(
             print(f"warning: {len(refusing)} Dask worker(s) without bubblewrap get no units: {', '.join(sorted(refusing))}", file=sys.stderr)
         queue = list(todo)
         units: dict = {}
-        stream = as_completed()
+        restricted: dict = {}  # future -> the workers it may run on (None: any)
 
         def allowed() -> list[str] | None:
             if not refusing:
@@ -161,35 +175,71 @@ def grade_on_dask(
                 allow_other_workers=False,
             )
             units[future] = unit
-            stream.add(future)
+            restricted[future] = workers
             return True
 
-        def refill() -> Iterator[tuple[object, dict]]:
-            limit = IN_FLIGHT_PER_THREAD * max(1, sum(client.nthreads().values()))
-            while queue and len(units) < limit:
-                unit = queue.pop(0)
-                if not submit(unit):
-                    yield unit, error_of(unit, NO_SANDBOX)
+        def drop(future):
+            restricted.pop(future, None)
+            future.release()
+            return units.pop(future)
 
-        yield from refill()
-        for future in stream:
-            unit = units.pop(future)
+        def refill() -> None:
+            limit = IN_FLIGHT_PER_THREAD * max(1, sum(client.nthreads().values()))
+            while queue and len(units) < limit and submit(queue[0]):
+                queue.pop(0)
+
+        if allowed() == []:  # no worker of this cluster can sandbox a notebook
+            for unit in queue:
+                yield unit, error_of(unit, NO_SANDBOX)
+            return
+        refill()
+        stalled_since = None
+        while units or queue:
             try:
-                result = future.result()
-            except SandboxUnavailable as exc:
-                refusing.add(exc.worker)
-                print(f"warning: Dask worker {exc.worker} has no bubblewrap: it gets no more units", file=sys.stderr)
-                if not submit(unit):
-                    yield unit, error_of(unit, NO_SANDBOX)
-                continue
-            except KilledWorker:
-                result = error_of(unit, "Dask workers died repeatedly while grading this notebook")
-            except Exception as exc:  # noqa: BLE001 - whatever one unit raised, the others are graded
-                result = error_of(unit, f"grader error: {type(exc).__name__}: {exc}")
-            finally:
-                future.release()
-            yield unit, result
-            yield from refill()
+                done, _ = wait(list(units), timeout=WATCH_SECONDS, return_when="FIRST_COMPLETED") if units else (set(), None)
+            except TimeoutError:
+                done = set()
+            if not done:
+                # Nothing finished for a while: can the units still run? A unit pinned to
+                # sandboxing workers that all died would wait in the scheduler forever.
+                alive = set(client.nthreads()) - refusing
+                for future in [f for f, workers in restricted.items() if workers is not None and not alive & set(workers)]:
+                    future.cancel()
+                    queue.insert(0, drop(future))
+                refill()
+                if alive:
+                    stalled_since = None
+                    if not units:
+                        time.sleep(WATCH_SECONDS)
+                    continue
+                stalled_since = stalled_since or time.monotonic()
+                if time.monotonic() - stalled_since < stall_seconds:
+                    time.sleep(0 if units else WATCH_SECONDS)
+                    continue
+                for future in list(units):
+                    future.cancel()
+                    queue.insert(0, drop(future))
+                for unit in queue:
+                    yield unit, error_of(unit, NO_WORKER)
+                return
+            stalled_since = None
+            for future in done:
+                unit = units[future]
+                try:
+                    result = future.result()
+                except SandboxUnavailable as exc:
+                    refusing.add(exc.worker)
+                    print(f"warning: Dask worker {exc.worker} has no bubblewrap: it gets no more units", file=sys.stderr)
+                    queue.insert(0, unit)
+                    continue
+                except KilledWorker:
+                    result = error_of(unit, "Dask workers died repeatedly while grading this notebook")
+                except Exception as exc:  # noqa: BLE001 - whatever one unit raised, the others are graded
+                    result = error_of(unit, f"grader error: {type(exc).__name__}: {exc}")
+                finally:
+                    drop(future)
+                yield unit, result
+            refill()
     finally:
         client.close()
         if cluster is not None:

@@ -9,14 +9,13 @@ temporary name and renamed, so a crash mid-run leaves whole files only.
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import time
 import warnings
 from pathlib import Path
 
 from grader.contract import is_bonus
+from grader.spreadsheet import csv_text
 
 #: ``bonus`` is ``true`` on the rows of bonus notebooks (BONUS_CONTRACT.md): their
 #: ``max_score`` is extra credit, not part of the assignment's regular maximum.
@@ -111,15 +110,10 @@ def write_autograded(autograded: Path, result: dict) -> None:
 
 def write_grades_csv(out: Path, results: list[dict]) -> Path:
     """``grades.csv``: one row per student × notebook, sorted."""
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(CSV_HEADER)
-    for r in sorted(results, key=lambda r: (r["student_id"], r["notebook"])):
-        writer.writerow(
-            [r["student_id"], r["assignment"], r["notebook"], f"{r['score']:g}", f"{r['max_score']:g}", str(is_bonus(r["notebook"])).lower()]
-        )
+    rows = ([r["student_id"], r["assignment"], r["notebook"], f"{r['score']:g}", f"{r['max_score']:g}", str(is_bonus(r["notebook"])).lower()]
+            for r in sorted(results, key=lambda r: (r["student_id"], r["notebook"])))
     path = Path(out) / "grades.csv"
-    write_text_atomic(path, buf.getvalue())
+    write_text_atomic(path, csv_text(CSV_HEADER, rows))
     return path
 
 

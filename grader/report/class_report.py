@@ -8,8 +8,6 @@ everything that came from a student (ids, messages) is escaped by the template.
 
 from __future__ import annotations
 
-import csv
-import io
 import re
 import statistics
 from collections import Counter, defaultdict
@@ -20,6 +18,7 @@ import numpy as np
 
 from grader.contract import is_bonus
 from grader.pipeline import record
+from grader.spreadsheet import csv_text, read_csv
 from grader.pipeline.feedback import _png, template
 
 GRADED = ("graded", "graded-with-incidents")
@@ -38,13 +37,12 @@ def load_results(out: Path) -> list[dict]:
     if not grades.is_file():
         raise FileNotFoundError(f"{out} is not the output folder of a grading run: it has no grades.csv")
     results = []
-    with open(grades, encoding="utf-8", newline="") as fh:
-        for row in csv.DictReader(fh):
-            unit = record.load_unit(out, row["student_id"], row["notebook"])
-            if unit is None:  # grades.csv without its unit file: keep the row's numbers, no details
-                unit = {"student_id": row["student_id"], "notebook": row["notebook"], "status": "unknown", "tests": [],
-                        "score": float(row["score"]), "max_score": float(row["max_score"]), "reasons": []}
-            results.append(unit)
+    for row in read_csv(grades):
+        unit = record.load_unit(out, row["student_id"], row["notebook"])
+        if unit is None:  # grades.csv without its unit file: keep the row's numbers, no details
+            unit = {"student_id": row["student_id"], "notebook": row["notebook"], "status": "unknown", "tests": [],
+                    "score": float(row["score"]), "max_score": float(row["max_score"]), "reasons": []}
+        results.append(unit)
     return results
 
 
@@ -184,14 +182,6 @@ def _figures(report: ClassReport, results: list[dict]) -> list[dict]:
     return pictures
 
 
-def _write_csv(path: Path, rows: list[dict], header: list[str]) -> None:
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, header, lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    record.write_text_atomic(path, buf.getvalue())
-
-
 CSV_TABLES = ("notebooks", "functions", "cases", "resources", "incidents")
 HEADERS = {
     "notebooks": ["notebook", "bonus", "students", "max_score", "mean", "median", "full_marks", "zero", "graded", "missing",
@@ -227,7 +217,7 @@ def write_class_report(out: Path, target: Path | None = None, collusion: list | 
     results = load_results(out)
     report = summarize(results)
     for name in CSV_TABLES:
-        _write_csv(target / f"{name}.csv", getattr(report, name), HEADERS[name])
+        record.write_text_atomic(target / f"{name}.csv", csv_text(HEADERS[name], getattr(report, name)))
     page = template("report.html.j2").render(
         report=report, pictures=_figures(report, results), csv_tables=CSV_TABLES, collusion=collusion or [],
         seeds=sorted({r.get("seed") for r in results if r.get("seed") is not None}),

@@ -74,7 +74,7 @@ def _fingerprint(code: str, shared_hashes):
 
 
 def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[str, str]] | None = None,
-               notebook: str = "") -> list[dict]:
+               notebook: str = "", similarity_threshold: float = SIMILARITY_THRESHOLD) -> list[dict]:
     """Pairs of students above either threshold, strongest evidence first.
 
     Parameters
@@ -85,6 +85,8 @@ def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[s
         Boilerplate code (``boilerplate``).
     wrong : dict, optional
         Student id -> {hidden case label -> digest of their wrong output}.
+    similarity_threshold : float, optional
+        Code similarity from which a pair is reported (0 reports every pair).
     """
     import numpy as np
     from copydetect import CodeFingerprint, compare_files
@@ -108,7 +110,7 @@ def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[s
             similarity = float(s1 + s2) / 2
         same = sorted(label for label, d in wrong.get(a, {}).items() if d and wrong.get(b, {}).get(label) == d)
         weight = sum(1.0 / (holders[(label, wrong[a][label])] - 1) for label in same)
-        if similarity >= SIMILARITY_THRESHOLD or weight >= WRONG_OUTPUT_THRESHOLD:
+        if similarity >= similarity_threshold or weight >= WRONG_OUTPUT_THRESHOLD:
             pairs.append({
                 "a": a, "b": b, "notebook": notebook, "similarity": round(similarity, 3),
                 "shared_wrong": same, "wrong_weight": round(weight, 3),

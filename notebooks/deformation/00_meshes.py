@@ -287,6 +287,13 @@ assert _b == 1, (
     f"square of two triangles: expected 1 boundary loop, got {_b}"
     + (": that is the number of boundary edges, count the loops they form" if _b == 4 else "")
 )
+# The same square with its second triangle listed clockwise: orientations need not agree.
+_b = boundary_loop_count(np.array([[0, 1, 2], [0, 3, 2]]))
+assert _b == 1, (
+    f"square of two triangles, the second listed clockwise: expected 1 boundary loop, got {_b}: the diagonal "
+    "is shared, so it is no boundary edge; triangles need not be oriented alike, so compare edges "
+    "whichever direction a triangle lists them in"
+)
 _b = boundary_loop_count(F_tet)
 assert _b == 0, f"the tetrahedron is closed: expected 0 boundary loops, got {_b}"
 _b = boundary_loop_count(F_ring)

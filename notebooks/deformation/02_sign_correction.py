@@ -284,6 +284,14 @@ assert np.allclose(_R, np.eye(3), atol=1e-10), (
     "smallest singular value"
 )
 
+# A singular S (points in a plane, or on a line in 2D): the sign must still make a rotation.
+_S = np.diag([3.0, 2.0, 0.0])
+_R = optimal_rotation(_S)
+assert np.allclose(_R.T @ _R, np.eye(3), atol=1e-10) and abs(np.linalg.det(_R) - 1) < 1e-8, (
+    f"S = diag(3, 2, 0) is singular (coplanar points): R must still be a rotation, got {np.round(_R, 6).tolist()}"
+    + (": det(S) = 0 says nothing about the sign; take it from det(Ṽ Ũᵀ)" if abs(np.linalg.det(_R)) < 1e-8 else "")
+)
+
 _S = np.array([[0.0, 2.0], [-8.0, 0.0]])  # points turned by 90 degrees: no correction needed
 _R = optimal_rotation(_S)
 assert np.allclose(_R, rotation_2d(np.pi / 2), atol=1e-10), (

@@ -253,6 +253,8 @@ _Lx = sp.csr_matrix(cotangent_laplacian(_V, _F)) @ _x
 _expected = _Lx @ (_Lx / _igl.massmatrix(_V, _F).diagonal())
 assert np.isclose(_x @ _Q @ _x, _expected, rtol=1e-9), (
     f"xᵀ Q x must equal (Lx)ᵀ M⁻¹ (Lx) = {_expected:.8g} with the Voronoi mass matrix, got {_x @ _Q @ _x:.8g}"
+    + (": that is (Lx)ᵀ(Lx), Q = L L; the mass matrix M⁻¹ is missing between the two Laplacians"
+       if np.isclose(_x @ _Q @ _x, _Lx @ _Lx, rtol=1e-9) else "")
 )
 _ratio = (_x @ sp.csr_matrix(biharmonic_matrix(2.0 * _V, _F)) @ _x) / (_x @ _Q @ _x)
 assert np.isclose(_ratio, 0.25), (
@@ -310,6 +312,8 @@ _expected = np.array([[1, 0, 0], [0, 1, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
 assert np.array_equal(_bc, _expected), (
     f"bc must have one row per vertex of b and one column per handle, 1 in the column of the "
     f"vertex's handle:\n{_expected}\ngot\n{np.asarray(_bc)}"
+    + ("\nthe columns are in reverse order: column j belongs to handles[j]"
+       if np.array_equal(np.asarray(_bc), _expected[:, ::-1]) else "")
 )
 _regions = load_handles("character")["regions"]
 _b, _bc = handle_constraints(_regions)
@@ -383,6 +387,7 @@ _expected = np.array([[0.9, 0.1], [0.1, 0.9]])
 assert np.allclose(_W, _expected), (
     f"points at distances (1, 3) and (3, 1) from two handles, power 2: weights ∝ (1, 1/9), i.e. "
     f"{_expected.tolist()}, got {np.round(_W, 6).tolist()}"
+    + (": that is power 1; weight by 1 / distance**power" if np.allclose(_W, [[0.75, 0.25], [0.25, 0.75]]) else "")
 )
 _W = inverse_distance_weights(np.array([[1.0, 0.0]]), np.array([[0.0, 0.0], [3.0, 0.0]]), power=1)
 assert np.allclose(_W, [[2 / 3, 1 / 3]]), f"power 1 at distances (1, 2): weights (2/3, 1/3), got {np.round(_W, 6).tolist()}"

@@ -121,6 +121,7 @@ assert _A.shape == (1, 6), f"one vertex in 2D with two handles gives A of shape 
 assert np.allclose(_A, _expected), (
     f"for v = (1, 2) and w = (0.25, 0.75) the row is [w_1·(1, 2, 1), w_2·(1, 2, 1)] = {_expected.ravel().tolist()}, "
     f"got {np.round(_A, 6).ravel().tolist()}"
+    + (": the 1 goes last, [v_i; 1]" if np.allclose(_A, [[0.25, 0.25, 0.5, 0.75, 0.75, 1.5]]) else "")
 )
 
 _V, _F = load_mesh("character")
@@ -324,32 +325,34 @@ direct = (time.perf_counter() - start) / len(frames)
 print(f"lbs_matrix once: {1e3 * precompute:.2f} ms; per frame: A @ T {1e6 * with_matrix:.0f} µs, lbs {1e6 * direct:.0f} µs")
 
 # %% [markdown]
-# ## 4 · The candy wrapper
+# ## 4 · Twisting a cylinder
 #
-# Now twist. The cylinder's two end caps are the handles; the left one stays,
-# the right one turns by $\theta$ about the cylinder's axis. The weight of the
-# right handle rises smoothly from 0 to 1 along the axis (a cubic smooth step
-# $3s^2 - 2s^3$ of the normalized position $s$), the left one is its complement.
+# Now twist. The cylinder (`load_mesh("cylinder")`, its axis along $x$ through
+# the origin) has two handles, its end caps; the left one stays, the right one
+# turns by $\theta$ about the cylinder's axis. The weight of the right handle
+# rises smoothly from 0 to 1 along the axis (a cubic smooth step $3s^2 - 2s^3$ of
+# the normalized position $s$), the left one is its complement, so the ring of
+# vertices half way along the axis has the weights $(\tfrac12, \tfrac12)$.
 #
-# Look at a vertex half way, $w = (\tfrac12, \tfrac12)$. LBS moves it by the
-# blended *matrix* $\tfrac12 (I + R_\theta)$. In the plane perpendicular to the
-# axis, with complex numbers for rotations,
-#
-# $$
-# \tfrac12\,\bigl(1 + e^{i\theta}\bigr) = \cos\tfrac{\theta}{2}\; e^{i\theta/2} ,
-# $$
-#
-# so the blend does turn the cross-section by the expected $\theta/2$, but it also
-# **scales it by $\cos(\theta/2)$**: at $\theta = 180°$ the middle of the cylinder
-# collapses to its axis, like the twisted ends of a candy wrapper. The reason is
-# general: a weighted average of rotation matrices is not a rotation (rotations do
-# not form a linear space), and LBS averages matrices. Skinning methods that
-# blend rotations instead, such as dual-quaternion skinning, do not collapse
-# this way. ARAP reached in small steps (stage 03) collapses much less, but it
-# does shrink too: a surface has no volume to preserve, and a stepwise 180°
-# twist of the bar still narrows its middle (stage 03 measures by how much).
+# **Predict first.** Before you write the next cell: when the right end turns by
+# 90°, and then by 180°, by how much does the middle ring turn, and what is its
+# radius compared with the rest pose (×1, ×0.9, ×0.7, ×0.5, ×0)? Sketch the
+# cylinder at 180°.
 
-# %%
+# %% [markdown] deformlab={"answer": "predict_candy_wrapper", "points": 1}
+# The middle ring turns by half the angle (45°, then 90°), but it also shrinks:
+# ×0.71 at 90° and ×0 at 180°, where the middle collapses onto the axis: the
+# cylinder is pinched in the middle like a candy wrapper. (Any prediction with a
+# reason earns the point; the measurement decides.)
+
+# %% [markdown]
+# **Your turn.** Complete the loop: for each angle build the two handles'
+# transformations `T` `(2, 3, 4)` (the left one the identity, the right one the
+# turn by $\theta$ about the $x$ axis, no translation), skin the cylinder with
+# **your** `lbs`, and measure `radius`: the middle ring's mean distance from the
+# axis divided by its rest value. The cell prints it and draws the four poses.
+
+# %% deformlab={"exercise": "candy_wrapper"}
 V, F = load_mesh("cylinder")
 s = (V[:, 0] - V[:, 0].min()) / np.ptp(V[:, 0])
 w_right = 3 * s**2 - 2 * s**3
@@ -359,18 +362,43 @@ middle = np.abs(s - 0.5) < 1e-9  # the ring of vertices half way along the axis
 twisted = []
 for degrees in (0, 90, 135, 180):
     theta = np.radians(degrees)
-    A = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(theta), -np.sin(theta)], [0.0, np.sin(theta), np.cos(theta)]])
-    T = np.stack([np.hstack([np.eye(3), np.zeros((3, 1))]), np.hstack([A, np.zeros((3, 1))])])
+    # T: left handle still, right handle turned by theta about x; U = your lbs; radius of the middle ring
+    ### BEGIN SOLUTION
+    turn_x = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(theta), -np.sin(theta)], [0.0, np.sin(theta), np.cos(theta)]])
+    T = np.stack([np.eye(3, 4), np.hstack([turn_x, np.zeros((3, 1))])])
     U = lbs(V, W_cylinder, T)
-    radius = np.linalg.norm(U[middle, 1:], axis=1).mean() / np.linalg.norm(V[middle, 1:], axis=1).mean()
-    print(f"twist {degrees:3d}°: middle ring radius × {radius:.4f}   (cos(θ/2) = {np.cos(theta / 2):.4f})")
+    ring_distance = np.linalg.norm(U[middle, 1:], axis=1)  # distance from the x axis
+    radius = ring_distance.mean() / np.linalg.norm(V[middle, 1:], axis=1).mean()
+    ### END SOLUTION
+    print(f"twist {degrees:3d}°: middle ring radius × {radius:.4f}")
     twisted.append((U, F))
 plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
 
 # %% [markdown]
-# **Question.** Why does the candy wrapper appear? Explain it for the vertices in
-# the middle of the cylinder, and say why better weights (for instance bounded
-# biharmonic weights) cannot remove it.
+# **Why.** A vertex half way, $w = (\tfrac12, \tfrac12)$, is moved by the
+# blended *matrix* $\tfrac12 (I + R_\theta)$. In the plane perpendicular to the
+# axis, with complex numbers for rotations,
+#
+# $$
+# \tfrac12\,\bigl(1 + e^{i\theta}\bigr) = \cos\tfrac{\theta}{2}\; e^{i\theta/2} ,
+# $$
+#
+# so the blend does turn the cross-section by the expected $\theta/2$, but it also
+# **scales it by $\cos(\theta/2)$** (compare with your measurements: 0.7071 at
+# 90°, 0.3827 at 135°): at $\theta = 180°$ the middle of the cylinder collapses
+# to its axis, like the twisted ends of a candy wrapper. The reason is general: a
+# weighted average of rotation matrices is not a rotation (rotations do not form
+# a linear space), and LBS averages matrices. Skinning methods that blend
+# rotations instead, such as dual-quaternion skinning (section 5), do not
+# collapse this way. ARAP reached in small steps (stage 03) collapses much less,
+# but it does shrink too: a surface has no volume to preserve, and a stepwise
+# 180° twist of the bar still narrows its middle (stage 03 measures by how much).
+
+# %% [markdown]
+# **Question.** Could better weights remove the candy wrapper, for instance
+# bounded biharmonic weights, or weights that change more slowly along the axis?
+# Argue for the 180° twist, whatever weight function goes from the left handle
+# to the right one.
 
 # %% [markdown] deformlab={"answer": "candy_wrapper", "points": 2}
 # LBS blends the transformation matrices linearly: a middle vertex with weights
@@ -666,6 +694,15 @@ assert np.allclose(_U, [[0.0, -1.0, 0.0]]), (
     f"+170° and -170° are 20° apart across the half turn: their middle is 180°, (0, -1, 0), got {np.round(_U, 4).tolist()}"
     + (": flip the dual quaternions on the other side of handle 0's (q_j,0 · q_0,0 < 0) before blending" if np.allclose(_U, _V) else "")
 )
+# 0° and 190° (= -170°): half way is -85°, the short way. Whether the two quaternions come out on the
+# same side depends on the sign dual_quaternions picks; with this pair or the one above they do not.
+_U = dqs(_V, np.array([[0.5, 0.5]]), np.stack([_turn_x(0), _turn_x(190)]))
+_want = [[0.0, np.cos(np.radians(85)), -np.sin(np.radians(85))]]
+assert np.allclose(_U, _want), (
+    f"half way between 0° and 190° (= -170°) the short way is -85°, (0, 0.0872, -0.9962), got {np.round(_U, 4).tolist()}"
+    + (": that is +95°, the long way; flip the dual quaternions on the other side of handle 0's "
+       "(q_j,0 · q_0,0 < 0) before blending" if np.allclose(_U, [[0.0, np.cos(np.radians(95)), np.sin(np.radians(95))]]) else "")
+)
 _V, _F = load_mesh("cylinder")
 _s = (_V[:, 0] - _V[:, 0].min()) / np.ptp(_V[:, 0])
 _W = np.c_[1 - _s, _s]
@@ -722,13 +759,13 @@ assert _err < 1e-10, f"the same rigid T for every handle must move the shape rig
 # the tube folds at the joint (−38 %, bulge ×1.25).
 
 # %%
-def turn(axis, degrees, about=np.zeros(3)):
-    """(3, 4) rigid turn by ``degrees`` about ``axis`` (x, y or z) through the point ``about``."""
+def turn(axis, degrees):
+    """(3, 4) rigid turn by ``degrees`` about the coordinate axis ``axis`` (x, y or z) through the origin."""
     c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
     i, j = {"x": (1, 2), "y": (2, 0), "z": (0, 1)}[axis]
     R = np.eye(3)
     R[[i, i, j, j], [i, j, i, j]] = [c, -s, s, c]
-    return np.c_[R, about - R @ about]
+    return np.c_[R, np.zeros(3)]
 
 
 def arap_in_steps(V, F, handles, targets_at, steps=12, iterations=5):
@@ -769,18 +806,44 @@ for name, U in twist.items():
     print(f"twist 180°, {name:<15} middle ring radius × {np.linalg.norm(U[middle, 1:], axis=1).mean() / radius:.3f}")
 plotting.show_meshes([(U, F) for U in twist.values()], titles=[f"twist 180°: {name}" for name in twist])
 
-# %%
+# %% [markdown]
+# **Your turn: the elbow's handles.** The upper arm (left half) stays; the
+# forearm (right half) turns by `degrees` about the $z$ axis through the joint
+# $p = (2, 0, 0)$, not through the origin: $x \mapsto R\,(x - p) + p$. Write
+# `elbow_transforms(degrees)`, the two handles' `(2, 3, 4)` transforms
+# $[R_j \mid t_j]$ (`turn("z", degrees)` is the turn about the origin). The next
+# cell skins the cylinder with them, and ARAP moves the forearm's vertices by
+# `elbow_transforms(90 * f)[1]` step by step.
+
+# %% deformlab={"exercise": "elbow"}
 joint = np.array([2.0, 0.0, 0.0])
+
+
+def elbow_transforms(degrees):
+    """(2, 3, 4) transforms: the upper arm still, the forearm turned by ``degrees`` about z through ``joint``."""
+    ### BEGIN SOLUTION
+    R = turn("z", degrees)[:, :3]
+    # R (x - p) + p = R x + (p - R p)
+    return np.stack([np.eye(3, 4), np.hstack([R, (joint - R @ joint)[:, None]])])
+    ### END SOLUTION
+
+
+# %%
+def moved(P, T_j):
+    """Points ``P`` (k, 3) moved by one transform ``[R | t]``."""
+    return P @ T_j[:, :3].T + T_j[:, 3]
+
+
 z = np.clip((V[:, 0] - 1.6) / 0.8, 0.0, 1.0)
 W_elbow = np.c_[1 - (3 * z**2 - 2 * z**3), 3 * z**2 - 2 * z**3]
-T = np.stack([turn("z", 0), turn("z", 90, joint)])
+T = elbow_transforms(90)
 upper, lower = np.flatnonzero(V[:, 0] < 1.6 - 1e-9), np.flatnonzero(V[:, 0] > 2.4 + 1e-9)
 elbow = {
     "LBS": lbs(V, W_elbow, T),
     "DQS": dqs(V, W_elbow, T),
     "ARAP, 12 steps": arap_in_steps(
         V, F, np.r_[upper, lower],
-        lambda f: np.r_[V[upper], V[lower] @ turn("z", 90 * f, joint)[:, :3].T + turn("z", 90 * f, joint)[:, 3]],
+        lambda f: np.r_[V[upper], moved(V[lower], elbow_transforms(90 * f)[1])],
     ),
 }
 
@@ -790,7 +853,7 @@ def distance_to_segment(P, a, b):
     return np.linalg.norm(P - (a + t[:, None] * (b - a)), axis=1)
 
 
-hand = T[1, :, :3] @ [4.0, 0.0, 0.0] + T[1, :, 3]  # where the far end of the bent axis goes
+hand = moved(np.array([4.0, 0.0, 0.0]), T[1])  # where the far end of the bent axis goes
 skin = (np.linalg.norm(V[:, 1:], axis=1) > radius - 1e-9) & (np.abs(V[:, 0] - 2.0) <= 0.4 + 1e-9)
 zone_volume = np.pi * radius**2 * 0.8
 for name, U in elbow.items():
@@ -810,8 +873,8 @@ plotting.show_meshes([(U, F) for U in elbow.values()], titles=[f"elbow 90°: {na
 # between 0° and 90°: each point keeps its distance to the joint, so the outer
 # side of the zone becomes an arc around the joint instead of following the bent
 # bones, and points there end up farther from the skeleton than the rest radius
-# (the bulge); the inner side keeps its distance too, so there is no collapse
-# and the volume stays. LBS moves the same vertices by averaged matrices, which
+# (the bulge); the inner side keeps its distance to the joint too, so it folds
+# in less than with LBS (skin to bone ×0.62 against ×0.45) and the volume stays. LBS moves the same vertices by averaged matrices, which
 # shrink towards the joint: the inner side collapses and the volume drops. ARAP
 # here acts on the surface only: its cells are fans of skin triangles, so it
 # keeps the skin's edge lengths and is free to fold the tube at the joint; no

@@ -306,7 +306,8 @@ _labels = np.asarray(rotation_clusters(_W, 3))
 assert _labels.shape == (60,), f"one label per row of W: expected shape (60,), got {_labels.shape}"
 assert set(_labels.tolist()) == {0, 1, 2}, f"labels must be 0, 1, 2, each used; got {sorted(set(_labels.tolist()))}"
 assert all(len(set(_labels[_s].tolist())) == 1 for _s in (slice(0, 30), slice(30, 50), slice(50, 60))), (
-    "the three separated groups of rows must get one label each"
+    "the three separated groups of rows must get one label each: did two starting centres fall into one group? "
+    "Spread the start (k-means++) and refill a cluster that ends up empty"
 )
 assert np.array_equal(rotation_clusters(_W, 3, seed=1), rotation_clusters(_W, 3, seed=1)), "the same seed must give the same labels"
 
@@ -322,7 +323,10 @@ _W = igl.harmonic(_V, _F, np.array(load_handles("character")["points"]), np.eye(
 for _k in (1, 4, 12):
     _labels = np.asarray(rotation_clusters(_W, _k))
     assert np.array_equal(np.unique(_labels), np.arange(_k)), f"k = {_k}: every label in range({_k}) must be used"
-    assert _is_fixed_point(_W, _labels), f"k = {_k}: some row is closer to another cluster's mean than to its own"
+    assert _is_fixed_point(_W, _labels), (
+        f"k = {_k}: some row is closer to another cluster's mean than to its own: repeat assigning the rows and "
+        "recomputing the means until no label changes"
+    )
 
 # %% [markdown]
 # ## 3 · The ARAP energy in the skinning subspace
@@ -513,7 +517,10 @@ def _direct_energy(V, F, W, T, clusters, R):
 _identity = np.tile(np.hstack([np.eye(2), np.zeros((2, 1))]), (5, 1, 1))
 _R_identity = np.tile(np.eye(2), (6, 1, 1))
 _E = fast_energy(_data, _identity, _R_identity)
-assert abs(_E) < 1e-9, f"the rest pose with identity rotations has zero energy, got {_E:.3e}"
+assert abs(_E) < 1e-9, (
+    f"the rest pose with identity rotations has zero energy, got {_E:.3e}: are fast_precompute's Q, P and constant "
+    "on one scale? Every edge counts in the cells of its triangle's three corners: Q = 3 Aᵀ(-L)A"
+)
 _T = _identity + rng.normal(0.0, 0.2, _identity.shape)
 _angles = rng.uniform(-np.pi, np.pi, 6)
 _R = np.stack([[[np.cos(_a), -np.sin(_a)], [np.sin(_a), np.cos(_a)]] for _a in _angles])
@@ -568,6 +575,19 @@ for _ in range(30):
     assert fast_energy(_data, _T, _other) >= _best - 1e-9 * abs(_best), (
         "turning the clusters' rotations slightly lowered the energy: the local step is not optimal "
         "(is S_c summed over the cluster's vertices, and R_c = optimal_rotation(S_c), not its transpose?)"
+    )
+# At the best R_c, turning one cluster's rotation by ±h changes the energy only to second order.
+_R = np.asarray(fast_rotations(_data, _T))
+for _c in range(6):
+    _turned = [_R.copy(), _R.copy()]
+    for _sign, _Rs in zip((1, -1), _turned):
+        _h = _sign * 1e-3
+        _Rs[_c] = _R[_c] @ [[np.cos(_h), -np.sin(_h)], [np.sin(_h), np.cos(_h)]]
+    _slope = (fast_energy(_data, _T, _turned[0]) - fast_energy(_data, _T, _turned[1])) / 2e-3
+    assert abs(_slope) <= 1e-6 * (1.0 + abs(_best)), (
+        f"cluster {_c}: turning R_c changes the energy at rate {_slope:.3e}, so R_c is not the cluster's best "
+        "rotation: sum the vertices' covariances over the cluster, S_c = P_c T, then R_c = optimal_rotation(S_c) "
+        "(averaging the vertices' own rotations is not the same)"
     )
 _pose = _identity.copy()
 _pose[:, :, :2] = [[0.0, -1.0], [1.0, 0.0]]  # every handle turned by 90°: a rigid motion
@@ -643,6 +663,29 @@ for _ in range(30):
 _R = np.asarray(fast_rotations(_data, _identity))
 _T = np.asarray(fast_global_step(_data, _R, _identity[[3, 4]]))
 assert np.allclose(_T, _identity, atol=1e-9), "with the fixed handles at rest and identity rotations, every transform stays the identity"
+# Rotations that are not the identity: those that fit the stepped pose. At a minimizer the energy's
+# slope along any change of the free transforms is zero (a central difference sees the slope alone).
+_R = np.asarray(fast_rotations(_data, np.asarray(fast_global_step(_data, _R, _fixed_T))))
+_T = np.asarray(fast_global_step(_data, _R, _fixed_T))
+_D = rng.normal(0.0, 1.0, (3, 2, 3))
+
+
+def _slope(T, R, h=1e-4):
+    up, down = T.copy(), T.copy()
+    up[:3] += h * _D
+    down[:3] -= h * _D
+    return (fast_energy(_data, up, R) - fast_energy(_data, down, R)) / (2 * h)
+
+
+if abs(_slope(_T, _R)) > 1e-6:
+    if np.allclose(_T[:3, :, :2], np.eye(2)):
+        raise AssertionError("the free handles' linear parts stayed the identity: the global step solves for the whole "
+                             "transforms [A_j | t_j], not only their translations")
+    if abs(_slope(_T, _R.transpose(0, 2, 1))) <= 1e-6:
+        raise AssertionError("your T minimizes the energy for the transposed rotations: B(R) = Σ_c (R_c P_c)ᵀ uses R_c as "
+                             "fast_rotations returns it (did you transpose R_c?)")
+    raise AssertionError(f"the energy still has slope {_slope(_T, _R):.2e} along a change of the free transforms: "
+                         "the global step is not the minimizer for these rotations (check B(R) - Q_fc T_c)")
 
 # %% [markdown]
 # ## 6 · The solver
@@ -709,6 +752,11 @@ _T0 = _identity.copy()
 _T0[:, :, 2] += 5.0
 _T5, _ = fast_solve(_data, _fixed_T, T0=_T0, iterations=1)
 assert np.array_equal(np.asarray(_T5)[[3, 4]], _fixed_T), "the fixed rows of T0 must be replaced by fixed_transforms first"
+_T0[[3, 4]] = _fixed_T
+assert np.allclose(_T5, fast_solve(_data, _fixed_T, T0=_T0, iterations=1)[0]), (
+    "one iteration from T0 must equal one from T0 with its fixed rows already replaced: put fixed_transforms into "
+    "T0's fixed rows before the first local step, which must see the handles where they belong"
+)
 
 # %% [markdown]
 # ## 7 · FAST against full ARAP

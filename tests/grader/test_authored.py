@@ -46,6 +46,23 @@ def test_the_solution_cell_is_the_teaching_code_and_its_body_is_what_the_release
     assert cell.source == solution.source and cell.metadata["nbgrader"]["grade_id"] == "solution_centroid"
 
 
+def test_an_exercise_cell_is_student_code_that_nothing_grades(tmp_path):
+    nb = read_authored(write(tmp_path, CENTROID + CENTROID_TESTS + '''
+# %% deformlab={"exercise": "twist"}
+for k in range(2):
+    ### BEGIN SOLUTION
+    c = centroid(np.ones((3, 2)) * k)
+    ### END SOLUTION
+    print(c)
+'''))
+    exercise = nb.cells[-1]
+    assert exercise.kind == "exercise" and solution_body(exercise.source).strip() == "c = centroid(np.ones((3, 2)) * k)"
+    meta = build_source_notebook(nb).cells[-1].metadata["nbgrader"]
+    assert meta["grade_id"] == "exercise_twist"
+    assert meta["solution"] and not meta["grade"] and not meta["locked"]
+    assert nb.functions == ["centroid"]
+
+
 def _solution(body: str) -> str:
     return '# %% deformlab={"solution": "centroid"}\n' + body + CENTROID_TESTS
 
@@ -70,6 +87,10 @@ def _solution(body: str) -> str:
         (CENTROID + '\n# %% deformlab={"tests": "centroid", "points": 1}\nresult = 1\n', "must start with '_'"),
         (CENTROID, "no tests cell for centroid"),
         (CENTROID + "\n" + CENTROID, "second solution cell"),
+        ('# %% deformlab={"exercise": "twist"}\nx = 1\n', "exercise cell needs one non-empty"),
+        ('# %% deformlab={"exercise": "twist"}\n### BEGIN SOLUTION\n### END SOLUTION\n', "exercise cell needs one non-empty"),
+        (CENTROID + CENTROID_TESTS + '\n# %% deformlab={"exercise": "twist"}\n### BEGIN SOLUTION\ndef centroid(P):\n    return P\n'
+         '### END SOLUTION\n', "an exercise cell defines the contract name"),
     ],
 )
 def test_broken_rules_are_refused_with_a_message_naming_them(tmp_path, body, message):

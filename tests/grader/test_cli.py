@@ -76,8 +76,34 @@ def test_grade_exits_nonzero_when_a_notebook_could_not_be_graded(tmp_path, capsy
 
 def test_a_late_policy_without_a_due_date_is_a_usage_error(tmp_path, capsys):
     (tmp_path / "ada" / "deformation").mkdir(parents=True)
-    assert main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--late-policy", "zero"]) == 2
-    assert "--late-policy needs --due" in capsys.readouterr().err
+    db = f"sqlite:///{tmp_path}/gb.db"  # a gradebook without the assignment: no due date there either
+    assert main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--late-policy", "zero", "--db", db]) == 2
+    assert "--late-policy needs a due date: --due, or the gradebook's" in capsys.readouterr().err
+
+
+def test_without_flags_the_due_date_comes_from_the_gradebook_and_the_plugin_from_nbgrader_config(tmp_path, monkeypatch):
+    from datetime import datetime
+
+    from nbgrader.api import Gradebook
+    from nbgrader.plugins import LateSubmissionPlugin
+
+    import grader.late_policy as late_policy
+    import grader.pipeline.run as run
+
+    db = f"sqlite:///{tmp_path}/gb.db"
+    with Gradebook(db) as gb:
+        gb.add_assignment("deformation", duedate=datetime(2026, 11, 20, 22, 59))
+    (tmp_path / "ada" / "deformation").mkdir(parents=True)
+    seen = {}
+    monkeypatch.setattr(run, "grade_class", lambda submitted, out, options: [])
+    monkeypatch.setattr(late_policy, "apply_late_policy",
+                        lambda out, submitted, assignment, due, plugin, db_url: seen.update(due=due, plugin=plugin) or {})
+    main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--db", db])
+    assert seen["due"] == datetime(2026, 11, 20, 22, 59)
+    # the course's nbgrader_config.py sets no plugin: nbgrader's own, which charges nothing
+    assert type(seen["plugin"]) is LateSubmissionPlugin and seen["plugin"].penalty_method == "none"
+    main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--db", db, "--due", "2026-11-21 12:00:00 UTC", "--late-policy", "zero"])
+    assert seen["due"] == datetime(2026, 11, 21, 12) and seen["plugin"].penalty_method == "zero"
 
 
 def test_an_unreadable_due_date_is_a_usage_error(tmp_path, capsys):

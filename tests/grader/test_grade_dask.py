@@ -9,8 +9,10 @@ equal the pool's.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
+import threading
 import os
 import shutil
 import signal
@@ -70,10 +72,10 @@ def course(make_course):
     shutil.rmtree(tmp, ignore_errors=True)
 
 
-@pytest.fixture(scope="module")
-def cluster(course):
-    """A scheduler and two sandboxing workers (no nanny: a killed worker stays dead), plus one without bubblewrap."""
-    tmp, _, _, env = course
+@contextlib.contextmanager
+def started_cluster(tmp: Path, env: dict, sandboxing: tuple[str, ...]):
+    """A scheduler, sandboxing workers named ``sandboxing`` (no nanny: a killed worker stays dead) and one without bubblewrap."""
+    tmp.mkdir(parents=True, exist_ok=True)
     scheduler_file = tmp / "scheduler.json"
     procs = [_start(["scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard", "--scheduler-file", str(scheduler_file)], tmp / "scheduler.log", env)]
     try:
@@ -81,14 +83,14 @@ def cluster(course):
         address = json.loads(scheduler_file.read_text())["address"]
         common = ["worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard", "--host", "127.0.0.1"]
         workers = {}
-        for name in ("w1", "w2"):
+        for name in sandboxing:
             workers[name] = _start([*common, "--name", name, "--local-directory", str(tmp / name)], tmp / f"{name}.log", env)
         # A machine without bubblewrap: nothing named bwrap on its PATH.
         workers["nobwrap"] = _start([*common, "--name", "nobwrap", "--local-directory", str(tmp / "nobwrap")], tmp / "nobwrap.log",
                                     dict(env, PATH=str(tmp / "empty-path")))
         procs += workers.values()
         with distributed.Client(address, timeout="30s") as client:
-            client.wait_for_workers(3, timeout=120)
+            client.wait_for_workers(len(workers), timeout=120)
             names = {info["name"]: addr for addr, info in client.scheduler_info()["workers"].items()}
         yield address, workers, names
     finally:
@@ -101,6 +103,14 @@ def cluster(course):
             except subprocess.TimeoutExpired:
                 proc.kill()
                 proc.wait()
+
+
+@pytest.fixture(scope="module")
+def cluster(course):
+    """Two sandboxing workers, w1 and w2, and one without bubblewrap."""
+    tmp, _, _, env = course
+    with started_cluster(tmp, env, ("w1", "w2")) as started:
+        yield started
 
 
 @pytest.fixture(scope="module")
@@ -194,3 +204,32 @@ def test_a_local_cluster_grades_every_unit(course, tmp_path, source_notebooks):
     assert run.returncode == 0, run.stderr[-3000:]
     log = {(r["student_id"], r["notebook"]): r["status"] for r in map(json.loads, (tmp_path / "out" / "log.jsonl").read_text().splitlines())}
     assert log == {(s, nb): "invalid" if (s, nb) == ("ada", "01_shape_matching") else "missing" for s in ("ada", "bob") for nb in source_notebooks}
+
+
+def test_units_pinned_to_sandboxing_workers_that_all_died_are_recorded_not_waited_for(course, tmp_path, monkeypatch, source_notebooks):
+    import grader.pipeline.distributed as dask_grading
+
+    _, root, submitted, env = course
+    monkeypatch.setattr(dask_grading, "STALL_SECONDS", 5.0)
+    monkeypatch.setattr(dask_grading, "WATCH_SECONDS", 1.0)
+    with started_cluster(tmp_path / "cluster", env, ("only",)) as (address, workers, names):
+        killed = threading.Event()
+
+        def kill_when_busy():
+            with distributed.Client(address, timeout="30s") as client:
+                _wait_for(lambda: client.processing(workers=[names["only"]]).get(names["only"]), 300, "the worker to start a unit")
+            workers["only"].send_signal(signal.SIGKILL)
+            killed.set()
+
+        killer = threading.Thread(target=kill_when_busy, daemon=True)
+        killer.start()
+        started = time.monotonic()
+        results = grade_class(submitted, tmp_path / "out", GradeOptions(
+            timeout=30, db_url=f"sqlite:///{tmp_path}/gb.db", seed=SEED, progress=False, scheduler=address), CoursePaths(root))
+        killer.join(timeout=60)
+    assert killed.is_set()
+    expected = {(student_id(e), nb) for e in ENTRIES for nb in source_notebooks}
+    assert {(r["student_id"], r["notebook"]) for r in _rows(tmp_path / "out")} == expected
+    given_up = [r for r in results if r["status"] == "grader-error"]
+    assert given_up and all("no Dask worker able to grade was left" in " ".join(r["reasons"]) for r in given_up)
+    assert time.monotonic() - started < 600

@@ -1,13 +1,9 @@
 """A common mistake makes the public tests fail with a message that names it."""
 
-from pathlib import Path
-
 import pytest
 
-from grader.build.authored import read_authored
-from grader.pipeline.sanitize import _calls_contract_at_top_level
-
-NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks" / "deformation"
+from grader.corpus import load_entry
+from tests.grader.public_hints_audit import BUGGY, public_failures
 
 TRANSPOSED_ROTATION = '''
 import numpy as np
@@ -44,19 +40,10 @@ def optimal_rotation(S):
 
 def public_test_failure(notebook: str, function: str, source: str) -> str:
     """The message of the first failing public test of ``function`` with ``source`` as its solution."""
-    namespace: dict = {}
-    for cell in read_authored(NOTEBOOKS / f"{notebook}.py").cells:
-        if cell.kind == "provided" and not _calls_contract_at_top_level(cell.source):
-            exec(compile(cell.source, notebook, "exec"), namespace)
-        elif cell.kind == "solution":
-            exec(compile(source if cell.function == function else cell.source, notebook, "exec"), namespace)
-        elif cell.kind == "tests" and cell.function == function:
-            try:
-                exec(compile(cell.source, notebook, "exec"), namespace)
-            except AssertionError as exc:
-                return str(exc)
-            return ""
-    raise AssertionError(f"{notebook} has no tests cell for {function}")
+    found = public_failures(notebook, {function: source}, {function})
+    if function not in found:
+        raise AssertionError(f"{notebook} has no tests cell for {function}")
+    return found[function]
 
 
 @pytest.mark.parametrize(
@@ -73,3 +60,36 @@ def test_a_common_mistake_gets_a_hint_that_names_it(notebook, function, source, 
     assert message, f"the public tests of {function} pass with the mistake"
     for word in words:
         assert word in message, f"the hint does not say {word!r}: {message}"
+
+
+@pytest.mark.parametrize(
+    "entry, function, words",
+    [
+        ("boundary_directed_half_edges", "boundary_loop_count", ("oriented alike",)),
+        ("biharmonic_without_mass", "biharmonic_matrix", ("M⁻¹ is missing",)),
+        ("dqs_without_pivot_flip", "dqs", ("the long way", "flip the dual quaternions")),
+        ("energy_unit_weights", "arap_energy", ("without the weights",)),
+        ("fast_clusters_empty_never_refilled", "rotation_clusters", ("refill a cluster that ends up empty",)),
+        ("fast_clusters_single_assignment", "rotation_clusters", ("until no label changes",)),
+        # the bug is in fast_precompute, whose data only fast_energy's tests can read
+        ("fast_precompute_without_factor_3", "fast_energy", ("Q = 3 Aᵀ(-L)A",)),
+        ("fast_rotations_vertex_average", "fast_rotations", ("not the cluster's best rotation",)),
+        ("fast_solve_keeps_t0_fixed_rows", "fast_solve", ("before the first local step",)),
+        ("fast_global_step_translations_only", "fast_global_step", ("not only their translations",)),
+        ("fast_step_rotations_transposed", "fast_global_step", ("transposed rotations",)),
+        ("global_step_soft_handles", "arap_global_step", ("must equal handle_positions exactly",)),
+        ("sign_from_det_of_s", "optimal_rotation", ("det(S) = 0 says nothing",)),
+        ("handle_columns_reversed", "handle_constraints", ("reverse order",)),
+        ("idw_power_ignored", "inverse_distance_weights", ("power 1",)),
+        ("laplacian_diagonal_sign", "cotangent_laplacian", ("diagonal has the wrong sign",)),
+        ("laplacian_editing_uniform", "laplacian_editing", ("not the uniform graph Laplacian",)),
+        ("lbs_matrix_one_first", "lbs_matrix", ("the 1 goes last",)),
+        ("precompute_handles_deduplicated", "arap_precompute", ("np.unique would also sort",)),
+    ],
+)
+def test_a_buggy_corpus_entry_gets_a_hint_that_names_its_mistake(entry, function, words):
+    bug = load_entry(BUGGY / f"{entry}.py")
+    message = public_failures(bug.notebook, bug.solutions, {function})[function]
+    assert message, f"{entry}: the public tests of {function} pass with the mistake"
+    for word in words:
+        assert word in message, f"{entry}: the hint of {function} does not say {word!r}: {message}"

@@ -50,3 +50,34 @@ def skinned_mesh():
         return V.copy(), F.copy(), W.copy(), fixed.copy()
 
     return load
+
+
+@pytest.fixture(scope="session")
+def tet_mesh():
+    """``tet_mesh(name, seed=None, jitter=0.1) -> (V, T)``: a course tetrahedral mesh.
+
+    With a seed, every vertex moves by up to ``jitter`` of the shortest edge in
+    a random direction (the tetrahedra stay positively oriented), so the
+    tests do not see only the grid's right angles.
+    """
+
+    def load(name: str, seed=None, jitter=0.1):
+        V, T = load_mesh(name)
+        if seed is not None:
+            shortest = np.linalg.norm(V[T[:, 1]] - V[T[:, 0]], axis=1).min()
+            V = V + jitter * shortest * np.random.default_rng(seed).uniform(-1, 1, V.shape) / np.sqrt(3)
+        return V, T
+
+    return load
+
+
+@pytest.fixture(scope="session")
+def random_rotation():
+    """``random_rotation(seed) -> (3, 3)``: a uniformly random rotation (QR of a Gaussian matrix, signs fixed)."""
+
+    def draw(seed):
+        Q, R = np.linalg.qr(np.random.default_rng(seed).standard_normal((3, 3)))
+        Q = Q * np.sign(np.diag(R))
+        return Q * np.linalg.det(Q)
+
+    return draw

@@ -142,6 +142,25 @@ def test_each_unnormalized_column_satisfies_the_kkt_conditions(handles):
     np.testing.assert_allclose(bbw(V, F, b, bc), columns / columns.sum(axis=1, keepdims=True), atol=1e-9)
 
 
+def test_matches_libigl_on_the_tet_hand_with_bones():
+    V, T = load_mesh("hand_tet")
+    b, bc = handle_constraints(load_handles("hand_tet")["bones"])
+    W = bbw(V, T, b, bc)
+    np.testing.assert_allclose(W, libigl_bbw(V, T, b, bc), atol=1e-8)
+    assert W.min() >= 0.0 and W.max() <= 1.0
+    np.testing.assert_allclose(W.sum(axis=1), 1.0, atol=1e-12)
+
+
+def test_tet_weights_of_the_palm_against_the_thumb_satisfy_the_kkt_conditions():
+    V, T = load_mesh("hand_tet")
+    bones = load_handles("hand_tet")["bones"]
+    b, bc = handle_constraints([bones[0], bones[5]])
+    Q = biharmonic_matrix(V, T)
+    w = unnormalized_column(V, T, b, bc, 0)
+    assert w.min() >= -1e-9 and w.max() <= 1.0 + 1e-9
+    assert np.abs(projected_gradient(Q, w, b)).max() <= 1e-9 * abs(Q).sum(axis=1).max()
+
+
 def test_clipped_unconstrained_weights_fail_the_kkt_check():
     # the KKT test above can fail: clipping is not the bounded minimizer
     V, F, handles = small_character()
@@ -215,6 +234,9 @@ def test_a_component_without_handles_is_rejected():
         (np.ones((3, 4)), np.array([[0, 1, 2]]), "V must have 2 or 3 columns"),
         (np.eye(3), np.array([[0.0, 1.0, 2.0]]), "F must be an integer array"),
         (np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [5.0, 5.0]]), np.array([[0, 1, 2]]), "V has an unreferenced vertex"),
+        (np.eye(4)[:, :2], np.array([[0, 1, 2, 3]]), r"V must have shape \(n, 3\) for a tetrahedral mesh"),
+        (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]), np.array([[0, 1, 2, 3]]), "F has a flat tetrahedron"),
+        (np.eye(3), np.array([[0, 1, 2, 0, 1]]), r"F must have shape \(f, 3\) \(triangles\) or \(f, 4\)"),
     ],
 )
 def test_bad_meshes_raise_value_error_naming_the_argument(V, F, message):

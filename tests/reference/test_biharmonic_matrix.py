@@ -22,6 +22,20 @@ def test_equals_l_inverse_mass_l_from_libigl(mesh):
     assert abs(Q - expected).max() <= 1e-12 * abs(expected).max()
 
 
+@pytest.mark.parametrize("mesh", ["bar_tet", "hand_tet"])
+def test_tetrahedra_give_l_inverse_barycentric_mass_l_from_libigl(mesh):
+    V, T = load_mesh(mesh)
+    V = V + 0.005 * np.random.default_rng(0).uniform(-1, 1, V.shape)
+    Q = biharmonic_matrix(V, T)
+    L = igl.cotmatrix(V, T)
+    M = igl.massmatrix(V, T)  # barycentric: libigl's default on tetrahedra, and what igl.bbw uses
+    expected = L @ sp.diags(1.0 / M.diagonal()) @ L
+    assert abs(Q - expected).max() <= 1e-9 * abs(expected).max()
+    scale = abs(Q).max()
+    assert abs(Q - Q.T).max() <= 1e-14 * scale
+    assert np.abs(Q @ np.ones(len(V))).max() <= 1e-10 * scale
+
+
 @pytest.mark.parametrize("mesh", MESHES)
 def test_symmetric_with_constants_in_the_null_space(mesh):
     V, F = load_mesh(mesh)
@@ -67,7 +81,10 @@ def test_inputs_are_not_modified():
         (np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]), np.array([[0, 1, 2]]), "F has a zero-area triangle"),
         (np.eye(3), np.array([[0, 1, 3]]), "F has a vertex index out of range"),
         (np.ones((3, 4)), np.array([[0, 1, 2]]), "V must have 2 or 3 columns"),
-        (np.eye(3), np.array([[0, 1, 2, 0]]), r"F must have shape \(f, 3\)"),
+        (np.eye(3), np.array([[0, 1, 2, 0, 1]]), r"F must have shape \(f, 3\) \(triangles\) or \(f, 4\)"),
+        (np.eye(3), np.array([[0, 1, 2, 0]]), r"F has a tetrahedron with a repeated vertex: F\[0\]"),
+        (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]), np.array([[0, 1, 2, 3]]), r"F has a flat tetrahedron"),
+        (np.eye(4)[:, :2], np.array([[0, 1, 2, 3]]), r"V must have shape \(n, 3\) for a tetrahedral mesh"),
         (np.eye(3), np.array([[0.0, 1.0, 2.0]]), "F must be an integer array"),
         (np.array([[0.0, 0.0], [1.0, 0.0], [0.0, np.nan]]), np.array([[0, 1, 2]]), "V contains NaN or inf"),
         (np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [5.0, 5.0]]), np.array([[0, 1, 2]]), r"V has an unreferenced vertex: V\[3\]"),

@@ -4,8 +4,11 @@ from hypothesis import given, settings, strategies as st
 from scipy.stats import special_ortho_group
 
 from reference.arap import arap_energy, arap_precompute, arap_rotations
+from reference.bounded_biharmonic_weights import bbw, handle_constraints
 from reference.fast import fast_energy, fast_precompute, rotation_clusters
 from reference.linear_blend_skinning import lbs
+from reference.tetrahedra import TET_EDGES, tet_cotangent_weights
+from starter.meshes import load_handles, load_mesh
 
 seeds = st.integers(0, 2**32 - 1)
 meshes = st.sampled_from(["bar_coarse", "character"])
@@ -105,3 +108,29 @@ def test_stage_03_data_is_not_mistaken_for_fast_data(skinned_mesh):
     V, F, W, _ = skinned_mesh("bar_coarse")
     with pytest.raises(ValueError, match="data must be the result of fast_precompute"):
         fast_energy(arap_precompute(V, F, np.r_[0, 1]), np.tile(np.eye(3, 4), (5, 1, 1)), np.tile(np.eye(3), (4, 1, 1)))
+
+
+def tet_spokes_and_rims_energy(V, U, T, C, R):
+    """``Σ_i Σ_{t ∋ i} Σ_e C[t, e] ‖e'_te - R_i e_te‖²`` over the 6 edges of each tetrahedron, by loops."""
+    total = 0.0
+    for t, tet in enumerate(T):
+        for i in tet:
+            for e, (a, b) in enumerate(TET_EDGES):
+                rest, deformed = V[tet[a]] - V[tet[b]], U[tet[a]] - U[tet[b]]
+                total += C[t, e] * np.sum((deformed - R[i] @ rest) ** 2)
+    return total
+
+
+@settings(max_examples=5, deadline=None)
+@given(st.integers(1, 20), seeds)
+def test_on_tetrahedra_it_is_the_spokes_and_rims_energy_over_the_six_edges(k, seed):
+    V, T = load_mesh("hand_tet")
+    bones = load_handles("hand_tet")["bones"]
+    W = bbw(V, T, *handle_constraints(bones[:3]))
+    rng = np.random.default_rng(seed)
+    clusters = rotation_clusters(W, k)
+    data = fast_precompute(V, T, W, clusters, [0])
+    transforms = np.tile(np.eye(3, 4), (3, 1, 1)) + 0.3 * rng.standard_normal((3, 3, 4))
+    R = special_ortho_group.rvs(3, size=k + 1, random_state=rng)[:k]
+    expected = tet_spokes_and_rims_energy(V, lbs(V, W, transforms), T, tet_cotangent_weights(V, T), R[clusters])
+    assert fast_energy(data, transforms, R) == pytest.approx(expected, rel=1e-9)

@@ -4,8 +4,10 @@ from hypothesis import given, settings, strategies as st
 from scipy.stats import special_ortho_group
 
 from reference.arap import arap_energy
+from reference.bounded_biharmonic_weights import bbw, handle_constraints
 from reference.fast import fast_energy, fast_global_step, fast_precompute, fast_rotations, fast_solve, rotation_clusters
 from reference.linear_blend_skinning import lbs
+from starter.meshes import load_handles, load_mesh
 
 seeds = st.integers(0, 2**32 - 1)
 meshes = st.sampled_from(["bar_coarse", "character"])
@@ -147,3 +149,22 @@ def test_bad_inputs_raise_value_error_naming_the_argument(skinned_mesh, change, 
     args.update(change)
     with pytest.raises(ValueError, match=message):
         fast_solve(**args)
+
+
+def test_on_the_volumetric_bar_the_energy_never_increases_and_a_twist_stays_a_twist():
+    V, T = load_mesh("bar_tet")
+    sets = load_handles("bar_tet")
+    rings = [np.flatnonzero(V[:, 0] == x) for x in (1.0, 2.0, 3.0)]
+    W = bbw(V, T, *handle_constraints([sets["left"], sets["right"], *rings]))
+    data = fast_precompute(V, T, W, rotation_clusters(W, 20), [0, 1])
+    c, s = np.cos(np.pi / 2), np.sin(np.pi / 2)
+    turn = np.array([[1.0, 0, 0], [0, c, -s], [0, s, c]])
+    centre = np.array([4.0, 0.5, 0.5])
+    fixed = np.stack([np.eye(3, 4), np.c_[turn, centre - turn @ centre]])
+    transforms, energies = fast_solve(data, fixed, iterations=30)
+    assert (np.diff(energies) <= 1e-10 * energies[0]).all()
+    U = lbs(V, W, transforms)
+    # the middle cross-section turns by about half the end's angle and keeps its size
+    middle = rings[1]
+    spread = np.linalg.norm(U[middle, 1:] - U[middle, 1:].mean(axis=0), axis=1)
+    assert spread.max() == pytest.approx(np.sqrt(0.5), rel=0.05)

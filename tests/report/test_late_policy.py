@@ -6,7 +6,8 @@ from datetime import datetime
 
 import pytest
 
-from grader.late_policy import PerDayPenalty, apply_late_policy, make_plugin, parse_due, read_timestamp
+from grader.late_policy import (PerDayPenalty, apply_late_policy, configured_plugin, gradebook_due, make_plugin, parse_due,
+                                read_timestamp)
 
 DUE = "2026-11-20 23:59:00 UTC"
 
@@ -29,6 +30,29 @@ def test_nbgraders_own_plugin_gives_zero_or_nothing():
 def test_a_policy_that_names_no_plugin_is_refused(spec):
     with pytest.raises(ValueError, match="late policy"):
         make_plugin(spec)
+
+
+def test_the_plugin_and_its_settings_come_from_nbgrader_config_as_autograde_reads_them(tmp_path):
+    config = tmp_path / "nbgrader_config.py"
+    config.write_text("c = get_config()\n"
+                      "c.AssignLatePenalties.plugin_class = 'grader.late_policy.PerDayPenalty'\n"
+                      "c.PerDayPenalty.fraction_per_day = 0.25\n")
+    plugin = configured_plugin(config)
+    assert isinstance(plugin, PerDayPenalty) and plugin.late_submission_penalty("ada", 8.0, 90000) == pytest.approx(4.0)
+    config.write_text("c = get_config()\nc.LateSubmissionPlugin.penalty_method = 'zero'\n")
+    assert configured_plugin(config).late_submission_penalty("ada", 8.0, 10) == 8.0
+    assert configured_plugin(tmp_path / "none.py").late_submission_penalty("ada", 8.0, 10) is None
+
+
+def test_the_due_date_is_the_gradebooks_own(tmp_path):
+    from nbgrader.api import Gradebook
+
+    db = f"sqlite:///{tmp_path}/gb.db"
+    with Gradebook(db) as gb:
+        gb.add_assignment("deformation", duedate=datetime(2026, 11, 20, 22, 59))
+        gb.add_assignment("other")
+    assert gradebook_due(db, "deformation") == datetime(2026, 11, 20, 22, 59)
+    assert gradebook_due(db, "other") is None and gradebook_due(db, "missing") is None
 
 
 def test_due_dates_are_read_as_nbgrader_reads_them():

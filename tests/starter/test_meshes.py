@@ -31,6 +31,8 @@ TOPOLOGY = {
     "nut": (3, 0, 1, 0),
     "sphere": (3, 2, 1, 0),
 }
+# Tetrahedral meshes: name -> (Euler characteristic of the boundary surface, volume)
+TETS = {"bar_tet": (2, 4.0), "hand_tet": (2, 0.704)}
 
 
 @pytest.fixture(autouse=True)
@@ -40,7 +42,7 @@ def default_data_folder(monkeypatch):
 
 def test_mesh_names_are_the_npz_files_of_the_data_folder():
     assert mesh_names() == sorted(p.stem for p in DATA.glob("*.npz"))
-    assert set(mesh_names()) == set(TOPOLOGY)
+    assert set(mesh_names()) == set(TOPOLOGY) | set(TETS)
 
 
 @pytest.mark.parametrize("name", sorted(TOPOLOGY))
@@ -64,7 +66,44 @@ def test_course_mesh_is_clean_with_the_documented_topology(name):
     assert len(np.unique(labels[np.unique(B)])) == loops
 
 
-@pytest.mark.parametrize("name", ["bar", "bar_coarse", "bar_fine", "cylinder"])
+@pytest.mark.parametrize("name", sorted(TETS))
+def test_tet_mesh_is_conforming_positively_oriented_with_a_closed_boundary(name):
+    chi, volume = TETS[name]
+    V, T = load_mesh(name)
+    assert V.dtype == np.float64 and V.shape[1] == 3
+    assert T.dtype == np.int64 and T.shape[1] == 4
+    assert np.array_equal(np.unique(T), np.arange(len(V))), "unreferenced vertices"
+    assert len(np.unique(V, axis=0)) == len(V), "duplicate points"
+    signed = np.linalg.det(np.stack([V[T[:, k]] - V[T[:, 0]] for k in (1, 2, 3)], axis=2)) / 6
+    assert signed.min() > 0, "a tetrahedron is flat or negatively oriented"
+    assert np.isclose(signed.sum(), volume)
+    # the outward faces of a positively oriented tet; a conforming mesh meets each interior face twice, reversed
+    faces = np.concatenate([T[:, [1, 2, 3]], T[:, [0, 3, 2]], T[:, [0, 1, 3]], T[:, [0, 2, 1]]])
+    _, which, count = np.unique(np.sort(faces, axis=1), axis=0, return_inverse=True, return_counts=True)
+    assert count.max() <= 2, "a face is shared by three tetrahedra"
+    B = faces[count[which.ravel()] == 1]
+    half = np.concatenate([B[:, [0, 1]], B[:, [1, 2]], B[:, [2, 0]]])
+    assert len(np.unique(half, axis=0)) == len(half), "boundary not consistently oriented / not edge-manifold"
+    assert set(map(tuple, half[:, ::-1].tolist())) == set(map(tuple, half.tolist())), "boundary not closed"
+    E = np.unique(np.sort(half, axis=1), axis=0)
+    assert len(np.unique(B)) - len(E) + len(B) == chi
+    # the divergence theorem: the boundary encloses the tetrahedra's volume (outward orientation)
+    enclosed = np.einsum("ij,ij->i", V[B[:, 0]], np.cross(V[B[:, 1]], V[B[:, 2]])).sum() / 6
+    assert np.isclose(enclosed, volume)
+
+
+def test_hand_bones_are_straight_rows_of_vertices_inside_the_hand():
+    V, _ = load_mesh("hand_tet")
+    bones = load_handles("hand_tet")["bones"]
+    assert len(bones) == 6 and len(np.unique(np.concatenate(bones))) == sum(len(b) for b in bones)
+    for bone in bones:
+        assert bone.dtype == np.int64 and len(bone) >= 5
+        steps = np.diff(V[bone], axis=0)
+        assert np.allclose(steps, steps[0]) and np.isclose(np.linalg.norm(steps[0]), 0.1)
+        assert np.allclose(V[bone, 2], 0.2)
+
+
+@pytest.mark.parametrize("name", ["bar", "bar_coarse", "bar_fine", "cylinder", "bar_tet"])
 def test_end_handles_are_all_vertices_on_the_end_planes(name):
     V, _ = load_mesh(name)
     handles = load_handles(name)

@@ -5,19 +5,15 @@ SOLUTIONS = {
 
 
 def fast_global_step(data, R, fixed_transforms):
-    d, m = data.V.shape[1], data.W.shape[1]
-    R, fixed_transforms = np.asarray(R, dtype=float), np.asarray(fixed_transforms, dtype=float)
-    T = np.tile(np.eye(d, d + 1), (m, 1, 1))
-    T[data.fixed] = fixed_transforms
-    Tc = np.einsum("ab,jcb->jac", data.to_centred, T).reshape(-1, d)
-    B = np.einsum("cbN,cab->Na", data.covariance_operator, R)
-    moving = data.free_rows.reshape(-1, d + 1)[:, d]  # the translation row of each free handle
-    kept = np.setdiff1d(np.arange(len(Tc)), moving)
-    Q = data.quadratic
-    Tc[moving] = np.linalg.solve(Q[np.ix_(moving, moving)], B[moving] - Q[np.ix_(moving, kept)] @ Tc[kept])
-    T = np.einsum("ab,jbc->jca", data.from_centred, Tc.reshape(m, d + 1, d))
-    T[data.fixed] = fixed_transforms
-    return T
+    d, m = data.d, data.m
+    B = np.einsum("cij,cjr->ri", np.asarray(R, dtype=float), data.P)
+    T_stack = np.tile(np.eye(d + 1, d), (m, 1))  # every handle starts at the identity [I; 0]
+    T_stack[data.fixed_rows] = np.asarray(fixed_transforms, dtype=float).transpose(0, 2, 1).reshape(-1, d)
+    moving = data.free_rows[data.free_rows % (d + 1) == d]  # the translation row of each free handle
+    kept = np.setdiff1d(np.arange(m * (d + 1)), moving)
+    Q = data.Q
+    T_stack[moving] = np.linalg.solve(Q[np.ix_(moving, moving)], B[moving] - Q[np.ix_(moving, kept)] @ T_stack[kept])
+    return T_stack.reshape(m, d + 1, d).transpose(0, 2, 1)
 ''',
 }
 LOSES = {"fast_global_step", "fast_precompute", "fast_solve"}

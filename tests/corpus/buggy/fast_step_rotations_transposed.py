@@ -6,16 +6,14 @@ import scipy.linalg
 
 
 def fast_global_step(data, R, fixed_transforms):
-    d, m = data.V.shape[1], data.W.shape[1]
-    R, fixed_transforms = np.asarray(R, dtype=float), np.asarray(fixed_transforms, dtype=float)
-    Tc = np.empty((m, d + 1, d))
-    Tc[data.fixed] = np.einsum("ab,jcb->jac", data.to_centred, fixed_transforms)
-    B = np.einsum("caN,cab->Nb", data.covariance_operator, R)
-    rhs = B[data.free_rows] - data.quadratic_free_fixed @ Tc[data.fixed].reshape(-1, d)
-    Tc[data.free] = scipy.linalg.cho_solve(data.solver, rhs).reshape(-1, d + 1, d)
-    T = np.einsum("ab,jbc->jca", data.from_centred, Tc)
-    T[data.fixed] = fixed_transforms
-    return T
+    d, m = data.d, data.m
+    B = np.einsum("cji,cjr->ri", np.asarray(R, dtype=float), data.P)  # Σ_c (R_cᵀ P_c)ᵀ: R_c where R_cᵀ belongs
+    T_stack = np.zeros((m * (d + 1), d))
+    T_stack[data.fixed_rows] = np.asarray(fixed_transforms, dtype=float).transpose(0, 2, 1).reshape(-1, d)
+    if data.free_rows.size:
+        rhs = B[data.free_rows] - data.Q[np.ix_(data.free_rows, data.fixed_rows)] @ T_stack[data.fixed_rows]
+        T_stack[data.free_rows] = scipy.linalg.cho_solve(data.Q_ff, rhs)
+    return T_stack.reshape(m, d + 1, d).transpose(0, 2, 1)
 ''',
 }
 LOSES = {"fast_global_step", "fast_precompute", "fast_solve"}

@@ -7,14 +7,15 @@ import scipy.sparse.linalg as spla
 
 
 def arap_global_step(data, R, handle_positions):
-    n, d = data.V.shape
-    R = np.asarray(R, dtype=float)
-    P = np.asarray(handle_positions, dtype=float)
-    # the right-hand side the exact solve uses, on every row
-    b = (data.covariance_operator.T @ R.transpose(0, 2, 1).reshape(n * d, d)) / 3.0
+    V, a, b = data.V, data.a, data.b
+    R_mean = np.asarray(R, dtype=float)[data.F].mean(axis=1)
+    pull = data.C.ravel()[:, None] * np.einsum("tij,tj->ti", np.repeat(R_mean, 3, axis=0), V[a] - V[b])
+    B = data.D @ pull
+    # the handles as stiff springs (weight 1e8) on every row instead of fixed rows
+    n = len(V)
     penalty = sp.csr_matrix((np.full(len(data.handles), 1e8), (data.handles, data.handles)), shape=(n, n))
-    b[data.handles] += 1e8 * P
-    return spla.spsolve((-data.L + penalty).tocsc(), b)
+    B[data.handles] += 1e8 * np.asarray(handle_positions, dtype=float)
+    return spla.spsolve((-cotangent_laplacian(V, data.F) + penalty).tocsc(), B)
 ''',
 }
 # every function whose result comes from a global step

@@ -1,0 +1,254 @@
+"""Checks of stage 07, tetrahedra (``LECTURE_CONTRACT.md``): finite elements and ARAP with tetrahedral cells.
+
+Cases use the course meshes ``hand_tet`` and ``bar_tet`` with their vertices and
+tetrahedra in random order and their positions jittered, plus single
+tetrahedra of both orientations, so neither the grid's right angles nor a
+fixed corner order can hide a mistake.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from grader.checks.base import Case, FunctionChecks, as_array, as_float, close, verdict
+from grader.checks.shape_matching import random_rotation
+from starter.meshes import load_mesh
+
+#: Relative tolerance of the direct formulas (one 3x3 inverse per tetrahedron).
+TET_RTOL = 1e-9
+#: Largest ‖RᵀR − I‖ accepted for a rotation, and the slack on ‖J − R‖ optimality.
+ROTATION_TOL = 1e-8
+
+
+def _shuffled(name: str, rng: np.random.Generator, jitter: float = 0.15, flip: bool = False):
+    """A course tet mesh, vertices and tetrahedra in random order, jittered by ``jitter`` of the grid step.
+
+    With ``flip`` a random half of the tetrahedra swap two corners (negative orientation).
+    """
+    V, T = load_mesh(name)
+    step = float(np.linalg.norm(V[T[0, 1]] - V[T[0, 0]]))
+    V = V + jitter * step * rng.uniform(-1, 1, V.shape) / np.sqrt(3)
+    order = rng.permutation(len(V))
+    new_index = np.empty_like(order)
+    new_index[order] = np.arange(len(V))
+    T = new_index[T][rng.permutation(len(T))]
+    if flip:
+        swap = rng.random(len(T)) < 0.5
+        T[swap] = T[swap][:, [1, 0, 2, 3]]
+    return V[order], T
+
+
+def _single(rng: np.random.Generator):
+    """Two random tetrahedra sharing a face, one of each orientation, far from the origin."""
+    V = rng.normal(size=(5, 3)) + rng.normal(0, 10, 3)
+    T = np.array([[0, 1, 2, 3], [0, 1, 2, 4]])
+    signs = np.sign([np.linalg.det(V[t[1:]] - V[t[0]]) for t in T])
+    T[signs != [1, -1]] = T[signs != [1, -1]][:, [1, 0, 2, 3]]  # the first positive, the second negative
+    return V, T
+
+
+def _meshes(rng: np.random.Generator):
+    return {
+        "two random tetrahedra, one of each orientation": _single(rng),
+        "the hand (jittered, shuffled)": _shuffled("hand_tet", rng),
+        "the volumetric bar, half the tetrahedra negatively oriented": _shuffled("bar_tet", rng, flip=True),
+        "the volumetric bar stretched 3x along y (anisotropic)": (
+            lambda V, T: (V * [1.0, 3.0, 1.0], T))(*_shuffled("bar_tet", rng, jitter=0.05)),
+    }
+
+
+def _deformed(V: np.ndarray, rng: np.random.Generator) -> dict[str, np.ndarray]:
+    """Deformed copies: a rigid motion, an affine map, a bend with noise (some tetrahedra inverted)."""
+    R = random_rotation(rng, 3)
+    A = R @ np.diag(rng.uniform(0.5, 1.5, 3))
+    centre = V.mean(axis=0)
+    size = float(np.ptp(V, axis=0).max())
+    angle = 0.6 * (V[:, 0] - centre[0]) / size
+    bent = V.copy()
+    bent[:, 1] = centre[1] + np.cos(angle) * (V[:, 1] - centre[1]) - np.sin(angle) * (V[:, 2] - centre[2])
+    bent[:, 2] = centre[2] + np.sin(angle) * (V[:, 1] - centre[1]) + np.cos(angle) * (V[:, 2] - centre[2])
+    return {
+        "a rigid motion": V @ R.T + rng.normal(0, 2, 3),
+        "an affine map": V @ A.T + rng.normal(0, 2, 3),
+        "a twist with noise (some tetrahedra inverted)": bent + 0.03 * size * rng.normal(size=V.shape),
+    }
+
+
+class TetVolumesChecks(FunctionChecks):
+    function = "tet_volumes"
+    description = "signed volumes det[v1 - v0, v2 - v0, v3 - v0] / 6 on both orientations, shuffled course meshes"
+
+    def cases(self, rng):
+        return [Case.call(label, "tet_volumes", V, T) for label, (V, T) in _meshes(rng).items()]
+
+    def verify(self, case, got, expected):
+        V, T = case.args()
+        vol = as_array(got, (len(T),), "vol")
+        want = as_array(expected, (len(T),), "the reference's vol")
+        scale = float(np.abs(want).max())
+        ok, where = close(vol, want, TET_RTOL, scale)
+        hint = ""
+        if not ok and close(np.abs(vol), np.abs(want), TET_RTOL, scale)[0]:
+            hint = " (the sizes are right but the signs are not: the volume is signed, det / 6 without abs)"
+        elif not ok and (close(vol, 6 * want, TET_RTOL, scale)[0] or close(vol, -6 * want, TET_RTOL, scale)[0]):
+            hint = " (six times too large: a tetrahedron is 1/6 of the parallelepiped its edges span)"
+        return [verdict("vol matches, with its sign", ok, where + hint)]
+
+
+class TetCotangentLaplacianChecks(FunctionChecks):
+    function = "tet_cotangent_laplacian"
+    description = "L[i, j] = -Σ |vol| ∇φ_i · ∇φ_j, zero row sums, equal to igl.cotmatrix, on both orientations"
+
+    def cases(self, rng):
+        return [Case.call(label, "tet_cotangent_laplacian", V, T) for label, (V, T) in _meshes(rng).items()]
+
+    def verify(self, case, got, expected):
+        V, T = case.args()
+        n = len(V)
+        L = as_array(got, (n, n), "L")
+        want = as_array(expected, (n, n), "the reference's L")
+        scale = float(np.abs(want).max())
+        ok, where = close(L, want, TET_RTOL, scale)
+        hint = ""
+        if not ok:
+            if close(L, -want, TET_RTOL, scale)[0]:
+                hint = " (the signs are flipped: off-diagonal entries are -|vol| ∇φ_i · ∇φ_j, the diagonal makes rows sum to zero)"
+            elif close(L, 6 * want, TET_RTOL, scale)[0]:
+                hint = " (six times too large: multiply by the volume det / 6, not by det)"
+            elif not close(L.sum(axis=1), 0.0, TET_RTOL, scale)[0]:
+                hint = " (the rows do not sum to zero: L[i, i] is minus the sum of the row's other entries)"
+        return [verdict("L matches", ok, where + hint)]
+
+
+class TetMassMatrixChecks(FunctionChecks):
+    function = "tet_mass_matrix"
+    description = "diagonal M[i, i] = Σ |vol| / 4 over the tetrahedra around i, on both orientations"
+
+    def cases(self, rng):
+        return [Case.call(label, "tet_mass_matrix", V, T) for label, (V, T) in _meshes(rng).items()]
+
+    def verify(self, case, got, expected):
+        V, T = case.args()
+        n = len(V)
+        M = as_array(got, (n, n), "M")
+        want = as_array(expected, (n, n), "the reference's M")
+        scale = float(np.abs(want).max())
+        ok, where = close(M, want, TET_RTOL, scale)
+        hint = ""
+        if not ok and np.any(np.diag(M) < 0):
+            hint = " (negative masses: use |vol|, a negatively oriented tetrahedron still has a positive volume)"
+        elif not ok and close(M, 4 * want, TET_RTOL, scale)[0]:
+            hint = " (each vertex gets a quarter of each tetrahedron's volume, not all of it)"
+        return [
+            verdict("M is diagonal", close(M - np.diag(np.diag(M)), 0.0, TET_RTOL, scale)[0], "off-diagonal entries"),
+            verdict("M matches", ok, where + hint),
+        ]
+
+
+class DeformationGradientsChecks(FunctionChecks):
+    function = "deformation_gradients"
+    description = "J_t maps the rest edges to the deformed edges: rigid, affine and bent deformations"
+
+    def cases(self, rng):
+        cases = []
+        for label, (V, T) in list(_meshes(rng).items())[:3]:
+            for how, U in _deformed(V, rng).items():
+                cases.append(Case.call(f"{label}, {how}", "deformation_gradients", V, U, T))
+        return cases
+
+    def verify(self, case, got, expected):
+        V, U, T = case.args()
+        J = as_array(got, (len(T), 3, 3), "J")
+        want = as_array(expected, (len(T), 3, 3), "the reference's J")
+        scale = float(np.abs(want).max())
+        ok, where = close(J, want, TET_RTOL, scale)
+        hint = ""
+        if not ok and close(J, want.transpose(0, 2, 1), TET_RTOL, scale)[0]:
+            hint = " (each J_t is transposed: J_t (v_k - v_0) = u_k - u_0, deformed edges = J times rest edges)"
+        elif not ok:
+            inverse = np.linalg.inv(np.where(np.abs(np.linalg.det(want))[:, None, None] > 1e-12, want, np.eye(3)))
+            if close(J, inverse, TET_RTOL, float(np.abs(inverse).max()))[0]:
+                hint = " (this is J⁻¹: multiply the deformed edges by the inverse of the rest edges, D' D⁻¹)"
+        return [verdict("J matches (tetrahedron, row, column)", ok, where + hint)]
+
+
+class TetArapRotationsChecks(FunctionChecks):
+    function = "tet_arap_rotations"
+    description = "R_t the rotation nearest to J_t (det +1), also on inverted and flattened tetrahedra"
+
+    def cases(self, rng):
+        cases = []
+        for label, (V, T) in list(_meshes(rng).items())[:3]:
+            for how, U in _deformed(V, rng).items():
+                cases.append(Case.call(f"{label}, {how}", "tet_arap_rotations", V, U, T))
+        V, T = _single(rng)
+        U = V.copy()
+        U[:, 2] = 0.0  # every tetrahedron flattened onto a plane: J has rank 2
+        cases.append(Case.call("two tetrahedra flattened onto the plane z = 0", "tet_arap_rotations", V, U, T))
+        return cases
+
+    def verify(self, case, got, expected):
+        V, U, T = case.args()
+        R = as_array(got, (len(T), 3, 3), "R")
+        want = as_array(expected, (len(T), 3, 3), "the reference's R")
+        from grader.contract import reference_function
+
+        J = reference_function("deformation_gradients")(V, U, T)
+        gram = np.linalg.norm(np.einsum("tji,tjk->tik", R, R) - np.eye(3), axis=(1, 2))
+        det = np.linalg.det(R)
+        rotation = bool(gram.max() <= ROTATION_TOL and np.all(np.abs(det - 1.0) <= ROTATION_TOL))
+        where = f"tetrahedron {int(np.argmax(gram + np.abs(det - 1)))}"
+        if not rotation and np.any(det < 0):
+            where += " has det R = -1: a reflection (flip the singular vector of the smallest singular value)"
+        got_distance = np.sum((J - R) ** 2, axis=(1, 2))
+        best = np.sum((J - want) ** 2, axis=(1, 2))
+        slack = ROTATION_TOL * (1.0 + np.sum(J**2, axis=(1, 2)))
+        nearest = bool(np.all(got_distance <= best + slack))
+        worst = int(np.argmax(got_distance - best))
+        hint = ""
+        if not nearest and close(R, want.transpose(0, 2, 1), 1e-8)[0]:
+            hint = " (R_t is transposed: maximize tr(R J_tᵀ), i.e. R = X Yᵀ for J = X Σ Yᵀ)"
+        return [
+            verdict("each R_t is a rotation (RᵀR = I, det R = +1)", rotation, where),
+            verdict(
+                "each R_t is nearest to J_t among rotations",
+                nearest,
+                f"tetrahedron {worst}: ‖J - R‖² = {got_distance[worst]:.6g}, the nearest rotation gives {best[worst]:.6g}{hint}",
+            ),
+        ]
+
+
+class TetArapEnergyChecks(FunctionChecks):
+    function = "tet_arap_energy"
+    description = "Σ |vol| ‖J - R‖² for rotations and for arbitrary matrices, on both orientations"
+
+    def cases(self, rng):
+        cases = []
+        for label, (V, T) in list(_meshes(rng).items())[:3]:
+            deformed = _deformed(V, rng)
+            U = deformed["a twist with noise (some tetrahedra inverted)"]
+            R = np.stack([random_rotation(rng, 3) for _ in range(len(T))])
+            cases.append(Case.call(f"{label}, bent, random rotations", "tet_arap_energy", V, U, T, R))
+            cases.append(
+                Case.call(f"{label}, affine, arbitrary matrices", "tet_arap_energy", V, deformed["an affine map"], T,
+                          rng.normal(size=(len(T), 3, 3)))
+            )
+        return cases
+
+    def verify(self, case, got, expected):
+        V, U, T, R = case.args()
+        E = as_float(got, "E")
+        want = as_float(expected, "the reference's E")
+        ok, where = close(E, want, TET_RTOL, abs(want))
+        hint = ""
+        if not ok:
+            from grader.contract import reference_function
+
+            J = reference_function("deformation_gradients")(V, U, T)
+            distance = np.sum((J - R) ** 2, axis=(1, 2))
+            vol = reference_function("tet_volumes")(V, T)
+            if np.isclose(E, float(vol @ distance), rtol=1e-9):
+                hint = " (use |vol|: a negatively oriented tetrahedron must not subtract energy)"
+            elif np.isclose(E, float(distance.sum()), rtol=1e-9):
+                hint = " (each tetrahedron's term is weighted by its volume)"
+        return [verdict("E matches", ok, f"got {E:.10g}, expected {want:.10g}{hint}" if not ok else where)]

@@ -1,0 +1,630 @@
+# ---
+# jupyter:
+#   jupytext:
+#     text_representation:
+#       extension: .py
+#       format_name: percent
+#   kernelspec:
+#     display_name: Python 3
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # 07 · Tetrahedra: finite elements and ARAP on a volume
+#
+# Every mesh so far was a surface: a 2D region cut into triangles, or the skin of
+# a 3D shape. The lecture discretizes the Laplacian, the biharmonic energy and
+# ARAP with finite elements on triangles **and tetrahedra**; this notebook does
+# the second half. Two things go wrong on a skin alone, and you have seen both:
+#
+# * ARAP on a surface keeps the skin's edges, not the volume inside: in stage 05
+#   the surface ARAP elbow folded, and a strongly twisted bar caves its walls in
+#   (nothing in the energy sees the inside);
+# * weights computed on a skin do not know which points are close *through the
+#   body*.
+#
+# A **tetrahedral mesh** fills the volume: `V` `(n, 3)` vertices (on the skin and
+# inside) and `T` `(f, 4)` tetrahedra. The course has two, made by
+# `data/make_meshes.py` from grid cubes, each split into 6 tetrahedra: the
+# volumetric bar `bar_tet` and a blocky hand `hand_tet` with six bones (libigl's
+# tutorial 403 does bounded biharmonic weights on a tetrahedral hand; so will we).
+#
+# The functions of this stage are in `LECTURE_CONTRACT.md`.
+
+# %%
+import time
+
+import igl
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from starter import load_handles, load_mesh, plotting
+
+rng = np.random.default_rng(7)
+
+
+def boundary_faces(T):
+    """The skin of a tetrahedral mesh: faces of exactly one tetrahedron, seen from outside.
+
+    For a positively oriented tetrahedron (v0, v1, v2, v3), the faces (1, 2, 3),
+    (0, 3, 2), (0, 1, 3), (0, 2, 1) have outward normals; an inner face belongs to
+    two tetrahedra, once in each direction.
+    """
+    T = np.asarray(T)
+    faces = np.concatenate([T[:, [1, 2, 3]], T[:, [0, 3, 2]], T[:, [0, 1, 3]], T[:, [0, 2, 1]]])
+    _, which, count = np.unique(np.sort(faces, axis=1), axis=0, return_inverse=True, return_counts=True)
+    return faces[count[which.ravel()] == 1]
+
+
+V_bar, T_bar = load_mesh("bar_tet")
+V_hand, T_hand = load_mesh("hand_tet")
+F_bar, F_hand = boundary_faces(T_bar), boundary_faces(T_hand)
+print(f"bar_tet: {len(V_bar)} vertices ({len(np.unique(F_bar))} on the skin), {len(T_bar)} tetrahedra")
+print(f"hand_tet: {len(V_hand)} vertices ({len(np.unique(F_hand))} on the skin), {len(T_hand)} tetrahedra")
+# a cut through the bar's middle shows the tetrahedra inside
+inside = T_bar[V_bar[T_bar].mean(axis=1)[:, 1] < 0.5]
+plotting.show_meshes(
+    [(V_bar, F_bar), (V_bar, boundary_faces(inside)), (V_hand, F_hand)],
+    titles=["bar_tet", "bar_tet cut at y = 0.5", "hand_tet"],
+    link_views=False,
+)
+
+# %% [markdown]
+# ## 1 · Volumes
+#
+# The tetrahedron $(v_0, v_1, v_2, v_3)$ is spanned by the three edges from
+# $v_0$; stack them as the columns of $D = [v_1 - v_0,\; v_2 - v_0,\; v_3 - v_0]$.
+# The parallelepiped they span has volume $|\det D|$, and the tetrahedron is
+# a sixth of it:
+#
+# $$
+# \operatorname{vol} = \tfrac16 \det D .
+# $$
+#
+# Without the absolute value the volume is **signed**: positive when $v_1, v_2,
+# v_3$ turn counter-clockwise seen from outside (the face opposite $v_0$ seen
+# from the side away from $v_0$), negative when two corners are swapped. A
+# deformation that turns a tetrahedron inside out flips its sign, which is how
+# we will count inverted tetrahedra.
+#
+# **Your task.** `tet_volumes(V, T)` returns the `(f,)` signed volumes.
+
+# %% deformlab={"solution": "tet_volumes"}
+import numpy as np
+
+
+def tet_volumes(V, T):
+    """Signed volumes of tetrahedra.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+    T : (f, 4) array_like of int
+
+    Returns
+    -------
+    vol : (f,) numpy.ndarray
+        ``det[v1 - v0, v2 - v0, v3 - v0] / 6`` for each tetrahedron.
+    """
+    ### BEGIN SOLUTION
+    V, T = np.asarray(V, dtype=float), np.asarray(T)
+    D = np.stack([V[T[:, k]] - V[T[:, 0]] for k in (1, 2, 3)], axis=2)  # edge columns
+    return np.linalg.det(D) / 6
+    ### END SOLUTION
+
+# %% deformlab={"tests": "tet_volumes", "points": 2}
+_V = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+_vol = np.asarray(tet_volumes(_V, np.array([[0, 1, 2, 3], [0, 2, 1, 3]])))
+assert _vol.shape == (2,), f"two tetrahedra give 2 volumes, got shape {_vol.shape}"
+assert np.isclose(abs(_vol[0]), 1 / 6), (
+    f"the unit corner tetrahedron has volume 1/6, got {_vol[0]:.6g}"
+    + (": divide det by 6" if np.isclose(abs(_vol[0]), 1) else "")
+)
+assert np.isclose(_vol[0], 1 / 6) and np.isclose(_vol[1], -1 / 6), (
+    f"swapping two corners flips the sign: expected [1/6, -1/6], got {_vol.tolist()}"
+    + (" (keep the sign: no abs)" if _vol[1] > 0 else "")
+)
+_vol = np.asarray(tet_volumes(V_bar, T_bar))
+assert np.isclose(_vol.sum(), 4.0) and _vol.min() > 0, (
+    f"bar_tet is [0, 4] x [0, 1] x [0, 1], positively oriented: volumes > 0 summing to 4, got sum {_vol.sum():.6g}"
+)
+
+# %% [markdown]
+# ## 2 · Finite elements on tetrahedra: the Laplacian and the mass matrix
+#
+# As on triangles, a function on the mesh is piecewise linear:
+# $u(x) = \sum_i u_i\, \varphi_i(x)$ with the **hat function** $\varphi_i$ equal
+# to 1 at vertex $i$, 0 at the others, and linear on each tetrahedron. Inside a
+# tetrahedron $\varphi_{k}$ ($k$ = its corner) is linear, so its gradient
+# $\nabla\varphi_k$ is a constant vector. Since $\varphi_1, \varphi_2, \varphi_3$
+# are the coordinates of $x - v_0$ in the basis of $D$'s columns,
+#
+# $$
+# \begin{bmatrix} \nabla\varphi_1^\top \\ \nabla\varphi_2^\top \\ \nabla\varphi_3^\top \end{bmatrix} = D^{-1},
+# \qquad
+# \nabla\varphi_0 = -(\nabla\varphi_1 + \nabla\varphi_2 + \nabla\varphi_3)
+# $$
+#
+# (the four hat functions sum to 1, so their gradients sum to zero).
+#
+# **Stiffness.** The Dirichlet energy $\int \lVert\nabla u\rVert^2 = u^\top K u$ with
+# $K_{ij} = \int \nabla\varphi_i \cdot \nabla\varphi_j$: on one tetrahedron the
+# gradients are constant, so its $4 \times 4$ block is
+# $|\operatorname{vol}_t|\,\nabla\varphi_a \cdot \nabla\varphi_b$. The cotangent
+# Laplacian is $L = -K$. In 3D its off-diagonal entries are again cotangent
+# weights: $-|\operatorname{vol}|\,\nabla\varphi_i\cdot\nabla\varphi_j = \tfrac16\, \ell_{kl} \cot\theta_{kl}$,
+# the length of the **opposite edge** $kl$ times the cotangent of the
+# **dihedral angle** there (the 2D formula had the opposite *angle*). As in 2D
+# they can be negative, the rows sum to zero, and $L$ equals `igl.cotmatrix(V, T)`.
+#
+# **Your task.** `tet_cotangent_laplacian(V, T)`: compute the gradients of all
+# tetrahedra at once (`np.linalg.inv` works on a stack), the `(f, 4, 4)` local
+# blocks, and add them into a sparse `(n, n)` matrix (duplicate entries of a
+# `coo`/`csr` constructor are summed).
+
+# %% deformlab={"solution": "tet_cotangent_laplacian"}
+import numpy as np
+import scipy.sparse as sp
+
+
+def tet_cotangent_laplacian(V, T):
+    """Cotangent Laplacian of a tetrahedral mesh, minus the linear elements' stiffness matrix.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+    T : (f, 4) array_like of int
+
+    Returns
+    -------
+    L : (n, n) scipy.sparse matrix
+        ``L[i, j] = -Σ_t |vol_t| ∇φ_i · ∇φ_j``; rows sum to zero (``igl.cotmatrix``).
+    """
+    ### BEGIN SOLUTION
+    V, T = np.asarray(V, dtype=float), np.asarray(T)
+    D = np.stack([V[T[:, k]] - V[T[:, 0]] for k in (1, 2, 3)], axis=2)
+    B = np.linalg.inv(D)  # rows: ∇φ_1, ∇φ_2, ∇φ_3
+    G = np.concatenate([-B.sum(axis=1, keepdims=True), B], axis=1)  # (f, 4, 3): ∇φ of the 4 corners
+    vol = np.abs(np.linalg.det(D)) / 6
+    K = vol[:, None, None] * (G @ G.transpose(0, 2, 1))  # (f, 4, 4) local stiffness blocks
+    rows, cols = np.repeat(T, 4, axis=1), np.tile(T, (1, 4))  # entry (a, b) of block t goes to (T[t, a], T[t, b])
+    return -sp.csr_matrix((K.ravel(), (rows.ravel(), cols.ravel())), shape=(len(V), len(V)))
+    ### END SOLUTION
+
+# %% deformlab={"tests": "tet_cotangent_laplacian", "points": 4}
+_V = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+_L = sp.csr_matrix(tet_cotangent_laplacian(_V, np.array([[0, 1, 2, 3]]))).toarray()
+_want = np.array([[-3, 1, 1, 1], [1, -1, 0, 0], [1, 0, -1, 0], [1, 0, 0, -1]]) / 6
+assert _L.shape == (4, 4), f"4 vertices give L of shape (4, 4), got {_L.shape}"
+_hint = ""
+if np.allclose(_L, -_want):
+    _hint = ": the signs are flipped (L = -K: off-diagonal entries -|vol| ∇φ_i·∇φ_j, here +1/6)"
+elif np.allclose(_L, 6 * _want):
+    _hint = ": six times too large (the volume is det / 6)"
+assert np.allclose(_L, _want), f"unit corner tetrahedron: expected 1/6 ×\n{6 * _want}\ngot 1/6 ×\n{np.round(6 * _L, 4)}{_hint}"
+_L = sp.csr_matrix(tet_cotangent_laplacian(V_hand, T_hand))
+assert abs(_L - _L.T).max() < 1e-12 and np.abs(_L @ np.ones(len(V_hand))).max() < 1e-10, "L must be symmetric with rows summing to 0"
+assert abs(_L - igl.cotmatrix(V_hand, T_hand)).max() < 1e-10, "L differs from igl.cotmatrix(V, T) on the hand"
+_u = V_hand @ np.array([1.0, -2.0, 0.5])  # a linear function: its gradient (1, -2, 0.5) everywhere
+assert np.isclose(-_u @ (_L @ _u), 5.25 * 0.704), "for linear u, -uᵀ L u = ∫ ‖∇u‖² = ‖∇u‖² × volume (0.704)"
+
+# %% [markdown]
+# **Mass.** The lumped mass matrix gives each vertex a quarter of the volume of
+# every tetrahedron around it (the "barycentric" lumping, libigl's default on
+# tetrahedra): $M = \operatorname{diag}(m_i)$, $m_i = \sum_{t \ni i} |\operatorname{vol}_t| / 4$.
+# Its entries sum to the volume of the mesh, and $\int u \approx \sum_i m_i u_i$.
+#
+# **Your task.** `tet_mass_matrix(V, T)` returns the sparse diagonal $M$. Use
+# `tet_volumes` and `np.bincount` with weights.
+
+# %% deformlab={"solution": "tet_mass_matrix"}
+import numpy as np
+import scipy.sparse as sp
+
+
+def tet_mass_matrix(V, T):
+    """Lumped (barycentric) mass matrix of a tetrahedral mesh.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+    T : (f, 4) array_like of int
+
+    Returns
+    -------
+    M : (n, n) scipy.sparse matrix
+        Diagonal; ``M[i, i]`` is a quarter of the volume of every tetrahedron around vertex ``i``.
+    """
+    ### BEGIN SOLUTION
+    T = np.asarray(T)
+    quarter = np.abs(tet_volumes(V, T)) / 4  # a negatively oriented tetrahedron still has mass
+    mass = np.bincount(T.ravel(), weights=np.repeat(quarter, 4), minlength=len(V))
+    return sp.diags(mass)
+    ### END SOLUTION
+
+# %% deformlab={"tests": "tet_mass_matrix", "points": 2}
+_V = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]])
+_M = sp.csr_matrix(tet_mass_matrix(_V, np.array([[0, 1, 2, 3], [1, 2, 3, 4]]))).toarray()
+assert _M.shape == (5, 5) and np.allclose(_M, np.diag(np.diag(_M))), "M must be a (5, 5) diagonal matrix here"
+assert np.all(np.diag(_M) > 0), f"masses must be positive, got {np.diag(_M).tolist()}: use |vol| (the second tetrahedron is negatively oriented)"
+assert np.allclose(np.diag(_M), [1 / 24, 1 / 8, 1 / 8, 1 / 8, 1 / 12]), (
+    f"each vertex gets a quarter of each tetrahedron's volume (1/6 and 1/3): expected "
+    f"[1/24, 1/8, 1/8, 1/8, 1/12], got {np.round(np.diag(_M), 5).tolist()}"
+)
+_M = sp.csr_matrix(tet_mass_matrix(V_hand, T_hand))
+assert np.isclose(_M.sum(), 0.704), f"the masses sum to the hand's volume 0.704, got {_M.sum():.6g}"
+assert abs(_M - igl.massmatrix(V_hand, T_hand)).max() < 1e-14, "M differs from igl.massmatrix(V, T) on the hand"
+
+# %% [markdown]
+# ## 3 · ARAP with tetrahedral cells
+#
+# In stage 03 every vertex had a rotation and its cell was the fan of
+# triangles around it. On a volume the natural cell is the **tetrahedron**
+# itself (libigl's `ARAP_ENERGY_TYPE_ELEMENTS`): a deformation $U$ moves
+# tetrahedron $t$ by an affine map $x \mapsto J_t x + b_t$, and
+#
+# $$
+# E(U, R) = \sum_t |\operatorname{vol}_t|\, \lVert J_t - R_t \rVert_F^2 .
+# $$
+#
+# $J_t$ is the **deformation gradient**: it maps the rest edges to the
+# deformed ones, $J_t D_t = D'_t$ with $D'_t = [u_1 - u_0,\; u_2 - u_0,\; u_3 - u_0]$, so
+#
+# $$
+# J_t = D'_t\, D_t^{-1} = \sum_k u_{T[t,k]}\, \nabla\varphi_k^\top .
+# $$
+#
+# **Local step.** For fixed $U$ each $R_t$ is the rotation nearest to $J_t$: with
+# the SVD $J_t = X \Sigma Y^\top$, $R_t = X Y^\top$, and if $\det(X Y^\top) = -1$
+# (a reflection) flip the sign of $X$'s last column first, the singular vector
+# of the smallest singular value: stage 02's sign correction, now needed for
+# every **inverted** tetrahedron ($\det J_t < 0$).
+#
+# **Global step.** For fixed $R$ the energy is quadratic in $U$ and its matrix is
+# $\sum_t |\operatorname{vol}_t| G_t^\top G_t = -L$, your tetrahedral Laplacian: the
+# free vertices solve $-L_{ff} U_f = B_f + L_{fh} U_h$ with
+# $B_i = \sum_{t \ni i} |\operatorname{vol}_t|\, R_t \nabla\varphi_i$. Neither
+# step can increase $E$.
+#
+# **Your tasks.** `deformation_gradients(V, U, T)` `(f, 3, 3)`;
+# `tet_arap_rotations(V, U, T)` `(f, 3, 3)`; `tet_arap_energy(V, U, T, R)`.
+
+# %% deformlab={"solution": "deformation_gradients"}
+import numpy as np
+
+
+def deformation_gradients(V, U, T):
+    """Deformation gradient of every tetrahedron.
+
+    Parameters
+    ----------
+    V, U : (n, 3) array_like of float
+        Rest and deformed positions.
+    T : (f, 4) array_like of int
+
+    Returns
+    -------
+    J : (f, 3, 3) numpy.ndarray
+        ``J_t D_t = D'_t``: the rest edges ``D_t = [v1 - v0, v2 - v0, v3 - v0]`` go to the deformed ones.
+    """
+    ### BEGIN SOLUTION
+    V, U, T = np.asarray(V, dtype=float), np.asarray(U, dtype=float), np.asarray(T)
+    D = np.stack([V[T[:, k]] - V[T[:, 0]] for k in (1, 2, 3)], axis=2)
+    D_deformed = np.stack([U[T[:, k]] - U[T[:, 0]] for k in (1, 2, 3)], axis=2)
+    return D_deformed @ np.linalg.inv(D)
+    ### END SOLUTION
+
+# %% deformlab={"tests": "deformation_gradients", "points": 3}
+_A = np.array([[1.0, 2.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.0, 3.0]])
+_J = np.asarray(deformation_gradients(V_hand, V_hand @ _A.T + [1.0, 2.0, 3.0], T_hand))
+assert _J.shape == (len(T_hand), 3, 3), f"one 3x3 matrix per tetrahedron: expected {(len(T_hand), 3, 3)}, got {_J.shape}"
+_hint = ""
+if np.allclose(_J, _A.T):
+    _hint = ": each J_t is transposed (J_t maps rest edges to deformed edges: J (v_k - v_0) = u_k - u_0)"
+elif np.allclose(_J, np.linalg.inv(_A)):
+    _hint = ": this is J⁻¹ (multiply the deformed edges by the inverse of the rest edges: D' D⁻¹)"
+assert np.allclose(_J, _A), f"an affine map x -> A x + b has J_t = A in every tetrahedron{_hint}"
+_U = V_bar + 0.05 * rng.normal(size=V_bar.shape)
+_J = np.asarray(deformation_gradients(V_bar, _U, T_bar))
+_e = V_bar[T_bar[:, 3]] - V_bar[T_bar[:, 1]]
+assert np.allclose(np.einsum("tab,tb->ta", _J, _e), _U[T_bar[:, 3]] - _U[T_bar[:, 1]]), "J_t must map every rest edge of t (here v3 - v1) to the deformed edge"
+
+# %% deformlab={"solution": "tet_arap_rotations"}
+import numpy as np
+
+
+def tet_arap_rotations(V, U, T):
+    """The local step: the rotation nearest to each tetrahedron's deformation gradient.
+
+    Parameters
+    ----------
+    V, U : (n, 3) array_like of float
+        Rest and deformed positions.
+    T : (f, 4) array_like of int
+
+    Returns
+    -------
+    R : (f, 3, 3) numpy.ndarray
+        Rotations (``det = +1``) minimizing ``‖J_t - R_t‖_F``.
+    """
+    ### BEGIN SOLUTION
+    J = deformation_gradients(V, U, T)
+    X, _, Yt = np.linalg.svd(J)  # J = X Σ Yᵀ, one SVD per tetrahedron
+    flip = np.linalg.det(X @ Yt) < 0  # the nearest orthogonal map is a reflection
+    X[flip, :, 2] *= -1  # flip the singular vector of the smallest singular value
+    return X @ Yt
+    ### END SOLUTION
+
+# %% deformlab={"tests": "tet_arap_rotations", "points": 3}
+_c, _s = np.cos(0.7), np.sin(0.7)
+_Rz = np.array([[_c, -_s, 0.0], [_s, _c, 0.0], [0.0, 0.0, 1.0]])
+_R = np.asarray(tet_arap_rotations(V_hand, 2.0 * V_hand @ _Rz.T, T_hand))
+assert _R.shape == (len(T_hand), 3, 3), f"one rotation per tetrahedron: expected {(len(T_hand), 3, 3)}, got {_R.shape}"
+assert np.allclose(_R, _Rz), (
+    "scaling by 2 after a rotation must give that rotation in every tetrahedron"
+    + (": R is transposed (R = X Yᵀ for J = X Σ Yᵀ)" if np.allclose(_R, _Rz.T) else "")
+)
+_U = V_bar.copy()
+_U[:, 2] *= -1  # a mirror: every tetrahedron inverted
+_R = np.asarray(tet_arap_rotations(V_bar, _U, T_bar))
+assert np.allclose(np.linalg.det(_R), 1.0), (
+    "every R_t must be a rotation (det +1) even when the tetrahedron is inverted: "
+    "flip the singular vector of the smallest singular value when det(X Yᵀ) = -1"
+)
+_J = np.asarray(deformation_gradients(V_bar, _U, T_bar))
+assert np.allclose(np.sum((_J - _R) ** 2, axis=(1, 2)), 4.0), "for a mirror J = diag(1, 1, -1) the nearest rotation is at distance² 4"
+
+# %% deformlab={"solution": "tet_arap_energy"}
+import numpy as np
+
+
+def tet_arap_energy(V, U, T, R):
+    """ARAP energy with one rotation per tetrahedron.
+
+    Parameters
+    ----------
+    V, U : (n, 3) array_like of float
+        Rest and deformed positions.
+    T : (f, 4) array_like of int
+    R : (f, 3, 3) array_like of float
+        One matrix per tetrahedron.
+
+    Returns
+    -------
+    float
+        ``Σ_t |vol_t| ‖J_t - R_t‖²_F``.
+    """
+    ### BEGIN SOLUTION
+    J = deformation_gradients(V, U, T)
+    squared = np.sum((J - np.asarray(R, dtype=float)) ** 2, axis=(1, 2))  # ‖J_t - R_t‖²_F
+    return float(np.abs(tet_volumes(V, T)) @ squared)
+    ### END SOLUTION
+
+# %% deformlab={"tests": "tet_arap_energy", "points": 2}
+_I = np.tile(np.eye(3), (len(T_hand), 1, 1))
+_E = tet_arap_energy(V_hand, 1.5 * V_hand, T_hand, _I)
+assert np.ndim(_E) == 0, f"the energy is one number, got shape {np.shape(_E)}"
+assert np.isclose(_E, 0.25 * 3 * 0.704), (
+    f"J = 1.5 I against R = I costs ‖0.5 I‖² = 0.75 per unit volume, 0.75 × 0.704 in all; got {float(_E):.6g}"
+)
+_T = T_hand.copy()
+_T[::2] = _T[::2][:, [1, 0, 2, 3]]  # half the tetrahedra negatively oriented
+assert np.isclose(tet_arap_energy(V_hand, 1.5 * V_hand, _T, _I), _E), (
+    "the energy must not depend on the corner order: weight by |vol|, not the signed volume"
+)
+_U = V_hand @ _Rz.T
+assert tet_arap_energy(V_hand, _U, T_hand, tet_arap_rotations(V_hand, _U, T_hand)) < 1e-20, "a rotation costs nothing"
+
+# %% [markdown]
+# The global step and the solver, built from your functions (as in stage 03,
+# with one rotation per tetrahedron instead of one per vertex). `tet_arap`
+# reaches the pose in `steps` steps of `iterations` iterations each, each step
+# starting from the last one's result.
+
+# %%
+def tet_arap(V, T, handles, targets_at, steps=6, iterations=10):
+    """ARAP with tetrahedral cells; ``targets_at(f)`` are the handles' positions at fraction ``f`` of the pose."""
+    L = sp.csr_matrix(tet_cotangent_laplacian(V, T))
+    vol = np.abs(tet_volumes(V, T))
+    D = np.stack([V[T[:, k]] - V[T[:, 0]] for k in (1, 2, 3)], axis=2)
+    B = np.linalg.inv(D)
+    G = np.concatenate([-B.sum(axis=1, keepdims=True), B], axis=1)  # (f, 4, 3) gradients of the hat functions
+    free = np.setdiff1d(np.arange(len(V)), handles)
+    solve = spla.factorized(-L[free][:, free].tocsc())
+    U, energies = V.copy(), []
+    for step in range(1, steps + 1):
+        U[handles] = targets_at(step / steps)
+        for _ in range(iterations):
+            R = tet_arap_rotations(V, U, T)  # local step
+            corner = vol[:, None, None] * np.einsum("tab,tkb->tka", R, G)  # |vol_t| R_t ∇φ_k
+            rhs = np.zeros((len(V), 3))
+            np.add.at(rhs, T.ravel(), corner.reshape(-1, 3))
+            rhs = rhs[free] + L[free][:, handles] @ U[handles]
+            U[free] = np.column_stack([solve(rhs[:, c]) for c in range(3)])  # global step
+            energies.append(tet_arap_energy(V, U, T, R))
+    return U, np.array(energies)
+
+
+def turn_about_x(degrees, centre):
+    """(3, 3) rotation about the x axis and the translation keeping ``centre`` in place."""
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    R = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+    return R, centre - R @ centre
+
+
+# %% [markdown]
+# ## 4 · Experiment: surface ARAP against tetrahedral ARAP on a twisted bar
+#
+# Twist the bar by 180°: the left end stays, the right end turns about the bar's
+# axis, reached in 6 steps of 10 iterations. Two ARAP solvers get exactly the
+# same handles:
+#
+# * **surface ARAP**: stage 03's spokes-and-rims energy on the bar's skin (the
+#   boundary triangles of `bar_tet`; libigl's implementation, the interior
+#   vertices dropped);
+# * **tetrahedral ARAP**: your energy on the whole volume.
+#
+# We measure the volume the skin encloses (in % of the rest volume 4), the
+# size of the middle cross-section, and how many tetrahedra turn inside out.
+#
+# **Predict first.** Which of the two keeps the volume better, and roughly how
+# much volume do you expect each to lose: none, a few percent, a third?
+
+# %% [markdown] deformlab={"answer": "predict_tet_experiment", "points": 1}
+# The tetrahedral ARAP keeps the volume far better: every tetrahedron wants to
+# stay rigid, so the inside resists being squeezed; it loses a few percent
+# (about 6 % measured) because the energy penalizes stretch and squeeze alike
+# but a twist must shorten some fibres. Surface ARAP only keeps the skin's
+# edges: the walls of the twisted bar cave in and about a third of the volume
+# is lost (about 30 % measured), although the skin's triangles stay nearly
+# rigid.
+
+# %%
+def enclosed_volume(U, F):
+    """Volume enclosed by a closed, outward-oriented triangle mesh (divergence theorem)."""
+    return np.einsum("ij,ij->i", U[F[:, 0]], np.cross(U[F[:, 1]], U[F[:, 2]])).sum() / 6
+
+
+ends = load_handles("bar_tet")
+left, right = ends["left"], ends["right"]
+centre = np.array([4.0, 0.5, 0.5])
+middle = np.flatnonzero(np.isclose(V_bar[:, 0], 2.0))
+
+
+def twisted(f):
+    R, t = turn_about_x(180 * f, centre)
+    return np.vstack([V_bar[left], V_bar[right] @ R.T + t])
+
+
+start = time.perf_counter()
+U_tet, energies = tet_arap(V_bar, T_bar, np.r_[left, right], twisted)
+seconds = time.perf_counter() - start
+
+# surface ARAP on the skin: renumber the skin's vertices 0..k-1
+skin = np.unique(F_bar)
+index = np.full(len(V_bar), -1)
+index[skin] = np.arange(len(skin))
+V_skin, F_skin = V_bar[skin], index[F_bar]
+data = igl.ARAPData()
+data.energy = igl.ARAP_ENERGY_TYPE_SPOKES_AND_RIMS
+data.max_iter = 10
+igl.arap_precomputation(V_skin, F_skin, 3, np.r_[index[left], index[right]], data)
+U_skin = V_skin.copy()
+for step in range(1, 7):
+    U_skin = igl.arap_solve(twisted(step / 6), data, U_skin)
+
+
+def width(P):
+    """Largest distance of a cross-section's points from their centre, in y-z."""
+    return np.linalg.norm(P[:, 1:] - P[:, 1:].mean(axis=0), axis=1).max()
+
+
+rest_width = width(V_bar[middle])
+print(f"tetrahedral ARAP: {len(energies)} iterations in {seconds:.2f} s; "
+      f"last step's energy {energies[-10]:.4f} -> {energies[-1]:.4f} (never up within a step)")
+middle_skin = index[middle][index[middle] >= 0]  # the middle cross-section's vertices on the skin
+for name, U, F, ring in [("surface ARAP", U_skin, F_skin, middle_skin), ("tetrahedral ARAP", U_tet, F_bar, middle)]:
+    print(f"{name:17s} volume {100 * (enclosed_volume(U, F) / 4.0 - 1):+6.1f} %, "
+          f"middle cross-section width × {width(U[ring]) / rest_width:.3f}")
+print(f"inverted tetrahedra after tetrahedral ARAP: {int(np.sum(tet_volumes(U_tet, T_bar) < 0))} of {len(T_bar)}")
+plotting.show_meshes(
+    [(U_skin, F_skin), (U_tet, F_bar)], titles=["surface ARAP, twist 180°", "tetrahedral ARAP, twist 180°"]
+)
+plotting.show_energy(energies[-10:], title="tetrahedral ARAP energy, the last step's 10 iterations")
+
+# %% [markdown]
+# **Question.** Surface ARAP's energy is as happy with the caved-in bar as with
+# a hollow tube: why does it not see the lost volume? And the tetrahedral
+# energy does not mention volume either (it has no $\det J$ term): why does it
+# keep the volume nonetheless, and why only approximately?
+
+# %% [markdown] deformlab={"answer": "tet_volume_why", "points": 2}
+# Surface ARAP's cells are fans of skin triangles: its energy only compares
+# skin edges before and after, and a wall that caves in keeps its edges
+# (nearly) the same length, so nothing in the energy measures the inside. The
+# tetrahedral energy makes every tetrahedron of the inside nearly rigid: a
+# rotation keeps the volume, so a deformation with low energy keeps it too.
+# Only approximately, because ‖J − R‖² penalizes every departure from a
+# rotation the same way; it has no term that forbids shrinking (no det J = 1
+# constraint), so where the twist forces stretching or squeezing the solver
+# trades a little volume against shear.
+
+# %% [markdown]
+# ## 5 · Bounded biharmonic weights on the tetrahedral hand
+#
+# Stage 04's weights minimize $\tfrac12 w^\top Q w$ with $Q = L M^{-1} L$ and
+# $0 \le w \le 1$; on a volume $L$ and $M$ are the ones you just wrote. Here the
+# box-constrained solve is libigl's `igl.bbw` (the active-set method of stage
+# 04), which assembles the same $L$ and $M$ on tetrahedra; we check that it does.
+# The hand has six bones (palm, four fingers, thumb), each a row of vertices
+# inside it; each bone is a handle.
+#
+# **Predict first.** The middle finger and its neighbours are 0.1 apart
+# (one grid step) across the gaps, but 1.4 apart through the hand. Does the
+# middle finger's bone weigh on the neighbouring fingers (a) with inverse-distance
+# weights, (b) with bounded biharmonic weights on the volume? Roughly how much?
+
+# %% [markdown] deformlab={"answer": "predict_hand_weights", "points": 1}
+# (a) Inverse-distance weights measure straight-line distance, so the index and
+# ring fingers, one gap away from the middle finger, take a large share of its
+# weight (about a third measured at their tips). (b) BBW on the volume spreads
+# weights through the hand's inside: from the middle finger to the index
+# finger the path runs down to the palm and back up, so the middle bone's
+# weight on the neighbouring fingers' tips is close to zero (below 1 %).
+
+# %%
+bones = load_handles("hand_tet")["bones"]
+b = np.concatenate(bones)
+bc = np.repeat(np.eye(len(bones)), [len(bone) for bone in bones], axis=0)
+assert abs(igl.cotmatrix(V_hand, T_hand) - tet_cotangent_laplacian(V_hand, T_hand)).max() < 1e-10
+assert abs(igl.massmatrix(V_hand, T_hand) - tet_mass_matrix(V_hand, T_hand)).max() < 1e-14
+W_bbw = igl.bbw(V_hand, T_hand, b, bc)
+W_bbw /= W_bbw.sum(axis=1, keepdims=True)
+# inverse-distance weights to the nearest vertex of each bone, power 2
+distance = np.stack([np.linalg.norm(V_hand[:, None] - V_hand[bone][None], axis=2).min(axis=1) for bone in bones], axis=1)
+with np.errstate(divide="ignore"):
+    W_idw = 1 / distance**2
+on_bone = np.isinf(W_idw).any(axis=1)
+W_idw[on_bone] = np.isinf(W_idw[on_bone])  # a vertex on a bone follows that bone alone
+W_idw /= W_idw.sum(axis=1, keepdims=True)
+names = ["palm", "index", "middle", "ring", "little", "thumb"]
+tips = {name: np.flatnonzero((V_hand[:, 1] >= V_hand[bone][:, 1].max() - 1e-9) & (np.abs(V_hand[:, 0] - V_hand[bone[0], 0]) <= 0.1 + 1e-9))
+        for name, bone in zip(names[1:5], bones[1:5])}
+for finger in ("index", "ring"):
+    print(f"weight of the middle bone at the {finger} fingertip: inverse distance {W_idw[tips[finger], 2].max():.3f}, "
+          f"BBW {abs(W_bbw[tips[finger], 2]).max():.4f}")
+plotting.show_meshes(
+    [(V_hand, F_hand, W_idw[:, 2]), (V_hand, F_hand, W_bbw[:, 2])],
+    titles=["inverse distance: middle bone", "BBW on the volume: middle bone"],
+)
+
+# %% [markdown]
+# **Linear blend skinning of the hand** (the scenario of libigl's tutorial 403):
+# curl every finger by 70° about its knuckle (the first vertex of its bone),
+# turn the thumb by 40°, keep the palm; each vertex blends the bone transforms
+# with its weights.
+
+# %%
+def turn_about(axis, degrees, pivot):
+    """(3, 4) rigid transform: rotation by ``degrees`` about ``axis`` through ``pivot`` (Rodrigues)."""
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    K = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+    t = np.radians(degrees)
+    R = np.eye(3) + np.sin(t) * K + (1 - np.cos(t)) * K @ K
+    return np.c_[R, pivot - R @ pivot]
+
+
+pose = [np.eye(3, 4)]
+pose += [turn_about([1.0, 0.0, 0.0], -70, V_hand[bone[0]]) for bone in bones[1:5]]
+pose += [turn_about([0.0, 1.0, 0.0], 40, V_hand[bones[5][0]])]
+pose = np.array(pose)
+U_hand = np.einsum("ij,jab,ib->ia", W_bbw, pose[:, :, :3], V_hand) + W_bbw @ pose[:, :, 3]
+U_idw = np.einsum("ij,jab,ib->ia", W_idw, pose[:, :, :3], V_hand) + W_idw @ pose[:, :, 3]
+print(f"inverted tetrahedra: BBW {int(np.sum(tet_volumes(U_hand, T_hand) < 0))}, "
+      f"inverse distance {int(np.sum(tet_volumes(U_idw, T_hand) < 0))} of {len(T_hand)}")
+plotting.show_meshes(
+    [(V_hand, F_hand), (U_idw, F_hand), (U_hand, F_hand)],
+    titles=["rest", "LBS, inverse-distance weights", "LBS, BBW on the volume"],
+)

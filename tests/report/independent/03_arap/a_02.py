@@ -1,0 +1,346 @@
+NOTEBOOK = '03_arap'
+DESCRIPTION = '02 hurried student: explicit python loops over triangles, corners and vertices; factorized solve per coordinate'
+SOLUTIONS = {
+    'optimal_rotation': r'''import numpy as np
+
+
+def optimal_rotation(S):
+    """The rotation maximizing ``tr(R S)``, for one matrix or a stack of them.
+
+    Parameters
+    ----------
+    S : (d, d) or (k, d, d) array_like of float
+        Covariance matrix or matrices, ``S = Ũ Σ Ṽᵀ``.
+
+    Returns
+    -------
+    R : numpy.ndarray, the shape of ``S``
+        ``R = Ṽ diag(1, …, 1, det(Ṽ Ũᵀ)) Ũᵀ``: orthogonal with ``det R = +1``.
+    """
+    S = np.array(S, dtype=float)
+    if S.ndim == 2:
+        u, s, vt = np.linalg.svd(S)
+        R = vt.T @ u.T
+        if np.linalg.det(R) < 0:
+            vt[-1, :] = -vt[-1, :]
+            R = vt.T @ u.T
+        return R
+    out = np.zeros_like(S)
+    for i in range(S.shape[0]):
+        out[i] = optimal_rotation(S[i])
+    return out
+''',
+    'cotangent_weights': r'''import numpy as np
+
+
+def cotangent_weights(V, F):
+    """Half the cotangent of every triangle corner.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions, ``d`` in {2, 3}.
+    F : (f, 3) array_like of int
+        Triangles, none of zero area.
+
+    Returns
+    -------
+    C : (f, 3) numpy.ndarray
+        ``C[t, k] = ½ cot`` of the angle at corner ``k`` of triangle ``t``: the weight of
+        the opposite edge ``(F[t, (k+1)%3], F[t, (k+2)%3])``.
+    """
+    V = np.array(V, dtype=float)
+    F = np.array(F)
+    C = np.zeros((len(F), 3))
+    for t in range(len(F)):
+        for k in range(3):
+            p = V[F[t][k]]
+            a = V[F[t][(k + 1) % 3]] - p
+            b = V[F[t][(k + 2) % 3]] - p
+            if len(p) == 2:
+                cr = abs(a[0] * b[1] - a[1] * b[0])
+            else:
+                cr = np.linalg.norm(np.cross(a, b))
+            C[t][k] = 0.5 * np.dot(a, b) / cr
+    return C
+''',
+    'cotangent_laplacian': r'''import numpy as np
+import scipy.sparse
+
+
+def cotangent_laplacian(V, F):
+    """The cotangent Laplacian (libigl's sign: negative semi-definite).
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Vertex positions.
+    F : (f, 3) array_like of int
+        Triangles.
+
+    Returns
+    -------
+    L : (n, n) scipy.sparse matrix
+        Symmetric; ``L[i, j]`` is the sum of the cotangent weights of edge ``(i, j)``,
+        ``L[i, i] = -Σ_{j≠i} L[i, j]``.
+    """
+    n = len(V)
+    C = cotangent_weights(V, F)
+    rows = []
+    cols = []
+    vals = []
+    for t in range(len(F)):
+        for k in range(3):
+            i = F[t][(k + 1) % 3]
+            j = F[t][(k + 2) % 3]
+            c = C[t][k]
+            rows += [i, j, i, j]
+            cols += [j, i, i, j]
+            vals += [c, c, -c, -c]
+    L = scipy.sparse.coo_matrix((vals, (rows, cols)), shape=(n, n))
+    return L.tocsr()
+''',
+    'arap_covariances': r'''import numpy as np
+
+
+def arap_covariances(V, U, F, C):
+    """The covariance matrix of every vertex's cell (the triangles around it).
+
+    Parameters
+    ----------
+    V, U : (n, d) array_like of float
+        Rest and deformed positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    C : (f, 3) array_like of float
+        Cotangent weights, ``C[t, k]`` for the edge opposite corner ``k``.
+
+    Returns
+    -------
+    S : (n, d, d) numpy.ndarray
+        ``S_i = Σ_{t ∋ i} Σ_k C[t, k] e_tk e'_tkᵀ``, ``e_tk`` the rest edge opposite corner
+        ``k`` and ``e'_tk`` the same edge in ``U``.
+    """
+    V = np.array(V, dtype=float)
+    U = np.array(U, dtype=float)
+    n, d = V.shape
+    S = np.zeros((n, d, d))
+    for t in range(len(F)):
+        M = np.zeros((d, d))
+        for k in range(3):
+            a = F[t][(k + 1) % 3]
+            b = F[t][(k + 2) % 3]
+            M += C[t][k] * np.outer(V[a] - V[b], U[a] - U[b])
+        for i in F[t]:
+            S[i] += M
+    return S
+''',
+    'arap_rotations': r'''def arap_rotations(V, U, F, C):
+    """The local step: the best rotation of every vertex's cell.
+
+    Parameters
+    ----------
+    V, U : (n, d) array_like of float
+        Rest and deformed positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    C : (f, 3) array_like of float
+        Cotangent weights.
+
+    Returns
+    -------
+    R : (n, d, d) numpy.ndarray
+        ``R_i = optimal_rotation(S_i)`` with ``S = arap_covariances(V, U, F, C)``.
+    """
+    S = arap_covariances(V, U, F, C)
+    R = optimal_rotation(S)
+    return R
+''',
+    'arap_energy': r'''import numpy as np
+
+
+def arap_energy(V, U, F, C, R):
+    """The ARAP energy of positions ``U`` measured against one rotation per vertex.
+
+    Parameters
+    ----------
+    V, U : (n, d) array_like of float
+        Rest and deformed positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    C : (f, 3) array_like of float
+        Cotangent weights.
+    R : (n, d, d) array_like of float
+        The rotation of every vertex's cell.
+
+    Returns
+    -------
+    E : float
+        ``Σ_i Σ_{t ∋ i} Σ_k C[t, k] ‖e'_tk - R_i e_tk‖²``.
+    """
+    V = np.array(V, dtype=float)
+    U = np.array(U, dtype=float)
+    E = 0.0
+    for t in range(len(F)):
+        for k in range(3):
+            a = F[t][(k + 1) % 3]
+            b = F[t][(k + 2) % 3]
+            e = V[a] - V[b]
+            ep = U[a] - U[b]
+            for i in F[t]:
+                r = ep - R[i] @ e
+                E += C[t][k] * r.dot(r)
+    return E
+''',
+    'arap_precompute': r'''import numpy as np
+from scipy.sparse.linalg import factorized
+
+
+def arap_precompute(V, F, handles):
+    """What the ARAP iterations reuse: the rest mesh, the weights and the factorized system.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    handles : (h,) array_like of int
+        Distinct vertex indices whose positions are prescribed; at least one.
+
+    Returns
+    -------
+    data : object of your design
+        Everything ``arap_global_step`` and ``arap_solve`` need.
+
+    Raises
+    ------
+    ValueError
+        If ``handles`` is empty, repeats a vertex or is out of range.
+    """
+    V = np.array(V, dtype=float)
+    n = len(V)
+    handles = np.array(handles, dtype=int)
+    if len(handles) == 0:
+        raise ValueError("no handles")
+    if len(set(handles.tolist())) != len(handles):
+        raise ValueError("repeated handle")
+    for h in handles:
+        if h < 0 or h >= n:
+            raise ValueError("handle out of range: " + str(h))
+    hs = set(handles.tolist())
+    free = np.array([i for i in range(n) if i not in hs], dtype=int)
+    C = cotangent_weights(V, F)
+    A = (-cotangent_laplacian(V, F)).tocsc()
+    Aff = A[free, :][:, free]
+    Afh = A[free, :][:, handles]
+    data = {"V": V, "F": np.array(F), "C": C, "handles": handles, "free": free,
+            "Afh": Afh, "solve": factorized(Aff.tocsc())}
+    return data
+''',
+    'arap_global_step': r'''import numpy as np
+
+
+def arap_global_step(data, R, handle_positions):
+    """The global step: the positions minimizing the ARAP energy for fixed rotations.
+
+    Parameters
+    ----------
+    data : object
+        From ``arap_precompute``.
+    R : (n, d, d) array_like of float
+        The rotation of every vertex's cell.
+    handle_positions : (h, d) array_like of float
+        Where the handles go.
+
+    Returns
+    -------
+    U : (n, d) numpy.ndarray
+        ``U[handles] = handle_positions``; the free rows solve ``(-L)_ff U_f = B_f - (-L)_fh U_h``.
+    """
+    V = data["V"]
+    F = data["F"]
+    C = data["C"]
+    n, d = V.shape
+    hp = np.array(handle_positions, dtype=float)
+    B = np.zeros((n, d))
+    for t in range(len(F)):
+        Rm = (R[F[t][0]] + R[F[t][1]] + R[F[t][2]]) / 3
+        for k in range(3):
+            a = F[t][(k + 1) % 3]
+            b = F[t][(k + 2) % 3]
+            v = C[t][k] * (Rm @ (V[a] - V[b]))
+            B[a] += v
+            B[b] -= v
+    rhs = B[data["free"]] - data["Afh"] @ hp
+    U = np.zeros((n, d))
+    U[data["handles"]] = hp
+    for c in range(d):
+        U[data["free"], c] = data["solve"](rhs[:, c])
+    return U
+''',
+    'arap_solve': r'''import numpy as np
+
+
+def arap_solve(data, handle_positions, U0=None, iterations=10):
+    """ARAP deformation: alternate the local and the global step.
+
+    Parameters
+    ----------
+    data : object
+        From ``arap_precompute``.
+    handle_positions : (h, d) array_like of float
+        Where the handles go.
+    U0 : (n, d) array_like of float, optional
+        The start; the rest positions by default. Its handle rows are replaced by
+        ``handle_positions`` first.
+    iterations : int
+        Local–global iterations.
+
+    Returns
+    -------
+    U : (n, d) numpy.ndarray
+        The positions after the last iteration.
+    energies : (iterations,) numpy.ndarray
+        ``energies[k]``: the energy after iteration ``k``'s global step, with the rotations it used.
+    """
+    if U0 is None:
+        U = data["V"].copy()
+    else:
+        U = np.array(U0, dtype=float)
+    U[data["handles"]] = handle_positions
+    energies = []
+    for it in range(iterations):
+        R = arap_rotations(data["V"], U, data["F"], data["C"])
+        U = arap_global_step(data, R, handle_positions)
+        energies.append(arap_energy(data["V"], U, data["F"], data["C"], R))
+    return U, energies
+''',
+    'laplacian_editing': r'''import numpy as np
+
+
+def laplacian_editing(V, F, handles, handle_positions):
+    """Naive Laplacian editing: the global step with every rotation the identity.
+
+    Parameters
+    ----------
+    V : (n, d) array_like of float
+        Rest positions.
+    F : (f, 3) array_like of int
+        Triangles.
+    handles : (h,) array_like of int
+        Vertex indices.
+    handle_positions : (h, d) array_like of float
+        Where the handles go.
+
+    Returns
+    -------
+    U : (n, d) numpy.ndarray
+    """
+    data = arap_precompute(V, F, handles)
+    n, d = data["V"].shape
+    R = np.array([np.eye(d) for i in range(n)])
+    return arap_global_step(data, R, handle_positions)
+''',
+}
+LOSES = set()
