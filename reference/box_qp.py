@@ -12,7 +12,7 @@ from starter.validation import as_float_array
 SYMMETRIC = {"diag_pivot_thresh": 0.0, "options": {"SymmetricMode": True}}
 
 
-def box_qp(H, G, tol=1e-10):
+def box_qp(H, G, tol=1e-9):
     """Minimize ``½ xᵀ H x - gᵀ x`` subject to ``0 ≤ x ≤ 1``, for each column ``g`` of ``G``.
 
     Parameters
