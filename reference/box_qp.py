@@ -8,7 +8,8 @@ import scipy.sparse.linalg as spla
 from starter.validation import as_float_array
 
 # rings of H's stencil by which the sparse branch shrinks its starting active
-# sets; on the BBW benchmark family 6 beat 2, 3, 4 and 8 in total CPU time
+# sets; 6 beat 3 and 8 in total CPU time on the BBW benchmark family (and 2
+# and 4 on four of its members)
 RINGS = 6
 # SymmetricMode with diagonal pivots: H is symmetric positive definite, and
 # SuperLU factors it far faster this way than with partial pivoting
