@@ -17,12 +17,13 @@ some steps 100x slower (a 200x200 ``cho_factor`` measured 0.3 s instead of
 ``igl.bbw`` does not use BLAS; its own threads are left alone (its CPU time
 exceeds its wall time).
 
-The **family** (``family()``) times both solvers the same way on eight more
+The **family** (``family()``) times both solvers the same way on nine more
 problems, so that a speed-up tuned on the character cannot hide a slow shape:
-convex, notched, with holes, with thin parts, few and many (20) handles, point
-handles, bones and regions. Its figure is the worst CPU ratio over the family
-(target ≤ 0.5, aim ≤ 0.25) and the largest weight difference (≤ 1e-4).
-Tetrahedral meshes are not in it: the reference ``bbw`` takes triangles only.
+convex, notched, with holes, with thin parts, 2D and tetrahedra, few and many
+(20) handles, point handles, bones and regions. Its figure is the worst CPU
+ratio over the family (target ≤ 0.5, aim ≤ 0.25) and the largest weight
+difference (≤ 1e-4). A member is one entry of ``FAMILY``: a label and a function
+returning ``(V, F, handles)``, ``F`` triangles or ``(f, 4)`` tetrahedra.
 
 Run with ``.venv/bin/python -m benchmarks bbw``.
 """
@@ -36,6 +37,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from reference.bounded_biharmonic_weights import bbw, handle_constraints
+from starter.meshes import load_handles, load_mesh
 from starter.shapes import _edge_length, _loop_edges, _triangulate, character_2d, character_2d_handles, disc_with_holes
 
 # character_2d's docstring: 1.3e-4 gives about 10,000 vertices
@@ -77,37 +79,80 @@ def _nearest(V, points):
     return [[int(np.argmin(np.linalg.norm(V - p, axis=1)))] for p in np.asarray(points, float)]
 
 
+def _convex_square():
+    V, F = _polygon(np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float), 6e-4)
+    return V, F, _nearest(V, [[0.3, 0.3], [1.7, 0.5], [1.0, 1.7]])
+
+
+def _u_with_a_deep_notch():
+    V, F = _polygon(np.array([[0, 0], [3, 0], [3, 3], [0, 3], [0, 2], [2, 2], [2, 1], [0, 1]], float), 8e-4)
+    return V, F, _nearest(V, [[0.2, 0.5], [0.2, 2.5], [2.8, 1.5], [1.5, 0.5]])
+
+
+def _comb(teeth=6):
+    outline = [[0, 0], [teeth, 0]] + [
+        p for k in range(teeth - 1, -1, -1) for p in ([k + 0.75, 1], [k + 0.75, 4], [k + 0.25, 4], [k + 0.25, 1])
+    ]
+    V, F = _polygon(np.array(outline, float), 1.5e-3)
+    return V, F, _nearest(V, [[k + 0.5, 3.9] for k in range(teeth)] + [[teeth / 2, 0.1]])
+
+
+def _disc_with_holes():
+    V, F = disc_with_holes(3, 4e-4)
+    return V, F, _nearest(V, [[0.9, 0], [-0.9, 0], [0, 0.9], [0, -0.9], [0, 0]])
+
+
+def _character_bones():
+    V, F = character_2d(max_area=MAX_AREA)
+    return V, F, [np.asarray(bone) for bone in character_2d_handles(V)["bones"]]
+
+
+def _character_regions_and_points():
+    V, F = character_2d(max_area=MAX_AREA)
+    handles = character_2d_handles(V)
+    return V, F, [np.asarray(r) for r in handles["regions"]] + [[int(i)] for i in handles["points"][1:3]]
+
+
+def _l_shape_20_points():
+    V, F = _polygon(np.array([[0, 0], [4, 0], [4, 1], [1, 1], [1, 4], [0, 4]], float), 6e-4)
+    spread = np.random.default_rng(0).choice(len(V), 20, replace=False)
+    return V, F, [[int(i)] for i in spread]
+
+
+def _flat_hexagon():
+    V, F = _polygon(np.array([[np.cos(t), np.sin(t)] for t in np.linspace(0, 2 * np.pi, 7)[:-1]]) * [3.0, 1.0], 5e-4)
+    return V, F, _nearest(V, [[-2.8, 0], [2.8, 0]])
+
+
+def _hand_tet_bones():
+    V, T = load_mesh("hand_tet")
+    return V, T, list(load_handles("hand_tet")["bones"])
+
+
+# (label, build): build() -> (V, F, handles), handles a list of vertex index lists
+FAMILY = [
+    ("convex square, 3 points", _convex_square),
+    ("U with a deep notch, 4 points", _u_with_a_deep_notch),
+    ("comb of 6 thin teeth, 7 points", _comb),
+    ("disc with 3 holes, 5 points", _disc_with_holes),
+    ("character, 5 bones", _character_bones),
+    ("character, 3 regions and 2 points", _character_regions_and_points),
+    ("L shape, 20 points", _l_shape_20_points),
+    ("flat hexagon (3 x 1), 2 points", _flat_hexagon),
+    ("hand of tetrahedra, 6 bones", _hand_tet_bones),
+]
+
+
 def family():
     """The BBW benchmark family: ``[(label, V, F, handles)]``, ``handles`` a list of vertex index lists.
 
-    Shapes of 5k–10k vertices: a convex square; a U with a deep notch; a comb of
-    thin teeth; a disc with holes; the character with point handles, with bones,
-    and with regions; an L with 20 point handles.
+    Triangle meshes of 5k–12.5k vertices (``FAMILY``): a convex square; a U
+    with a deep notch; a comb of thin teeth; a disc with holes; the character
+    with bones, and with regions and points; an L with 20 point handles; a flat
+    hexagon. And the hand of tetrahedra (1.2k vertices, ``data/hand_tet.npz``)
+    with its six bones.
     """
-    problems = []
-    V, F = _polygon(np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float), 6e-4)
-    problems.append(("convex square, 3 points", V, F, _nearest(V, [[0.3, 0.3], [1.7, 0.5], [1.0, 1.7]])))
-    V, F = _polygon(np.array([[0, 0], [3, 0], [3, 3], [0, 3], [0, 2], [2, 2], [2, 1], [0, 1]], float), 8e-4)
-    problems.append(("U with a deep notch, 4 points", V, F, _nearest(V, [[0.2, 0.5], [0.2, 2.5], [2.8, 1.5], [1.5, 0.5]])))
-    teeth = 6
-    outline = [[0, 0], [teeth, 0]] + [p for k in range(teeth - 1, -1, -1) for p in ([k + 0.75, 1], [k + 0.75, 4], [k + 0.25, 4], [k + 0.25, 1])]
-    V, F = _polygon(np.array(outline, float), 1.5e-3)
-    problems.append(("comb of 6 thin teeth, 7 points", V, F, _nearest(V, [[k + 0.5, 3.9] for k in range(teeth)] + [[3.0, 0.1]])))
-    V, F = disc_with_holes(3, 4e-4)
-    problems.append(("disc with 3 holes, 5 points", V, F, _nearest(V, [[0.9, 0], [-0.9, 0], [0, 0.9], [0, -0.9], [0, 0]])))
-    V, F = character_2d(max_area=MAX_AREA)
-    handles = character_2d_handles(V)
-    problems.append(("character, 5 bones", V, F, [np.asarray(bone) for bone in handles["bones"]]))
-    problems.append((
-        "character, 3 regions and 2 points", V, F,
-        [np.asarray(r) for r in handles["regions"]] + [[int(i)] for i in handles["points"][1:3]],
-    ))
-    V, F = _polygon(np.array([[0, 0], [4, 0], [4, 1], [1, 1], [1, 4], [0, 4]], float), 6e-4)
-    spread = np.random.default_rng(0).choice(len(V), 20, replace=False)
-    problems.append(("L shape, 20 points", V, F, [[int(i)] for i in spread]))
-    V, F = _polygon(np.array([[np.cos(t), np.sin(t)] for t in np.linspace(0, 2 * np.pi, 7)[:-1]]) * [3.0, 1.0], 5e-4)
-    problems.append(("flat hexagon (3 x 1), 2 points", V, F, _nearest(V, [[-2.8, 0], [2.8, 0]])))
-    return problems
+    return [(label, *build()) for label, build in FAMILY]
 
 
 def _timed(run):

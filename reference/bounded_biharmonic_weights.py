@@ -2,11 +2,11 @@
 
 import igl
 import numpy as np
-import scipy
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from reference.arap import cotangent_laplacian
+from reference.box_qp import box_qp
 from reference.tetrahedra import as_tet_mesh, tet_cotangent_laplacian, tet_mass_matrix
 from starter.validation import (
     as_faces,
@@ -282,140 +282,14 @@ def bbw(V, F, b, bc):
             f"the component of vertex {i} has none, so its weights are undetermined"
         )
 
-    # How: the unconstrained minimizer leaves [0, 1] in a few regions (its
-    # negative lobes and overshoots), nearly the same ones for every handle as
-    # the unconstrained weights sum to one. Ordering those vertices, C, last in
-    # a sparse factorization of Q makes its trailing block the Schur complement
-    # K of Q onto C, so each handle's problem becomes a small dense one on C,
-    # solved exactly by block principal pivoting (box_qp) with one dense
-    # Cholesky per step. If the weights then leave [0, 1] outside C, C grows
-    # and the solve repeats. When C is large, the pivoting runs on the sparse
-    # system instead, one sparse factorization per step.
-    tol_x = 1e-11
-    # SymmetricMode with diagonal pivots: the matrices are symmetric positive
-    # definite, and SuperLU factors them far faster this way than with pivoting
-    symmetric = {"diag_pivot_thresh": 0.0, "options": {"SymmetricMode": True}}
-
-    def box_qp(K, G, x0, lower, upper):
-        """Minimize ``½ (y - x0)ᵀ K (y - x0)`` over ``0 ≤ y ≤ 1``, ``K`` SPD ``(k, k)``.
-
-        ``K`` is a dense array (then ``G`` is its inverse) or a sparse matrix
-        (then ``G`` is None); ``x0`` is ``(k,)``; ``lower`` and ``upper`` are
-        ``(k,)`` bool, the initial active sets (``y = 0``, ``y = 1``).
-        Block principal pivoting (primal-dual active sets): solve the equality
-        problem with the current active sets, then move every infeasible
-        variable across: a free one out of bounds, an active one whose
-        multiplier has the wrong sign. That usually converges in a few dozen
-        steps but can cycle; once an active set repeats, only the last
-        infeasible variable moves (Murty's rule), which cannot cycle.
-
-        Returns ``(nu, lower, upper)``: the multipliers ``K (y - x0)`` (zero on
-        the free variables) and the final active sets.
-        """
-        tol_nu = 1e-12 * abs(K).max()
-        max_iter = 100 + 5 * len(x0)
-        seen, murty = set(), False
-        for _ in range(max_iter):
-            active = np.flatnonzero(lower | upper)
-            inactive = np.flatnonzero(~(lower | upper))
-            y = upper.astype(np.float64)
-            nu = np.zeros_like(y)
-            if G is not None and active.size < inactive.size:
-                # the smaller system: y = x0 + G[:, A] nu_A with y_A fixed
-                factor = scipy.linalg.cho_factor(G[np.ix_(active, active)], check_finite=False)
-                nu[active] = scipy.linalg.cho_solve(factor, y[active] - x0[active], check_finite=False)
-                y[inactive] = x0[inactive] + G[np.ix_(inactive, active)] @ nu[active]
-            else:
-                if inactive.size:
-                    coupling = K[inactive][:, active] @ (y[active] - x0[active])
-                    if G is None:
-                        K_free = K[inactive][:, inactive].tocsc()
-                        shift = spla.splu(K_free, permc_spec="MMD_AT_PLUS_A", **symmetric).solve(coupling)
-                    else:
-                        factor = scipy.linalg.cho_factor(K[np.ix_(inactive, inactive)], check_finite=False)
-                        shift = scipy.linalg.cho_solve(factor, coupling, check_finite=False)
-                    y[inactive] = x0[inactive] - shift
-                nu[active] = K[active] @ (y - x0)
-            below = ~(lower | upper) & (y < -tol_x)
-            above = ~(lower | upper) & (y > 1 + tol_x)
-            release = (lower & (nu < -tol_nu)) | (upper & (nu > tol_nu))
-            infeasible = below | above | release
-            count = int(infeasible.sum())
-            if count == 0:
-                return nu, lower, upper
-            state = (lower.tobytes(), upper.tobytes())
-            murty = murty or state in seen
-            seen.add(state)
-            if murty:
-                infeasible = np.zeros_like(infeasible)
-                infeasible[np.flatnonzero(below | above | release)[-1]] = True
-            lower = (lower & ~(infeasible & release)) | (infeasible & below)
-            upper = (upper & ~(infeasible & release)) | (infeasible & above)
-        raise RuntimeError(
-            f"bbw: the active-set solver did not converge in {max_iter} iterations "
-            f"({count} of {len(x0)} variables still infeasible)"
-        )
-
+    # each column is a box-constrained QP on the free vertices: the energy
+    # ½ wᵀ Q w with w[b] = bc is ½ xᵀ H x - gᵀ x in x = w[free]
     free = np.setdiff1d(np.arange(n), b)
     W = np.zeros((n, m))
     W[b] = bc
     if free.size:
         Q_free = Q[free]
-        H = Q_free[:, free].tocsc()
-        rhs = -(Q_free[:, b] @ bc)
-        lu = spla.splu(H, permc_spec="MMD_AT_PLUS_A", **symmetric)
-        # about the flops of one sparse factorization of H (Σ column count²)
-        sparse_flops = float((np.diff(lu.L.indptr).astype(np.float64) ** 2).sum())
-        X_unconstrained = lu.solve(rhs)
-        X = X_unconstrained
-        # at_lower[i, j]: x_i = 0 for handle j; at_upper[i, j]: x_i = 1
-        at_lower = np.zeros_like(X, dtype=bool)
-        at_upper = np.zeros_like(X, dtype=bool)
-        C = np.zeros(len(free), dtype=bool)
-        while True:
-            at_lower |= X < -tol_x
-            at_upper |= X > 1 + tol_x
-            grown = C | at_lower.any(axis=1) | at_upper.any(axis=1)
-            if np.array_equal(grown, C):
-                break
-            # a dense step costs up to |C|³/3 flops but runs them ~30x faster
-            # than SuperLU: go dense when that beats a sparse factorization
-            if float(grown.sum()) ** 3 < 100 * sparse_flops:
-                # Order C last, the rest in lu's fill-reducing order (lu.perm_c[i]
-                # is the position of vertex i): the trailing block of the factor
-                # is then the Schur complement K of H onto C.
-                order = np.argsort(lu.perm_c + len(free) * grown, kind="stable")
-                lu_c = spla.splu(H[order][:, order].tocsc(), permc_spec="NATURAL", **symmetric)
-                # SuperLU postorders its elimination tree, which can move a few
-                # other vertices behind C: take the whole trailing block
-                tail = len(free) - int(lu_c.perm_c[np.argsort(order)[grown]].min())
-                trailing = order[np.argsort(lu_c.perm_c)[-tail:]]
-                K = lu_c.L[-tail:, -tail:].toarray() @ lu_c.U[-tail:, -tail:].toarray()
-                K = 0.5 * (K + K.T)
-                G = scipy.linalg.cho_solve(
-                    scipy.linalg.cho_factor(K, check_finite=False), np.eye(len(K)), check_finite=False,
-                )
-            else:
-                trailing = np.arange(len(free))
-                K, G = H, None
-            C[trailing] = True
-            # with the other vertices eliminated, the energy on C is
-            # ½ (y - x0)ᵀ K (y - x0), x0 the unconstrained weights there; its
-            # multipliers are the gradient of the full energy
-            multipliers = np.zeros((len(free), m))
-            for j in range(m):
-                nu, lower, upper = box_qp(
-                    K, G, X_unconstrained[trailing, j], at_lower[trailing, j], at_upper[trailing, j],
-                )
-                multipliers[trailing, j] = nu
-                at_lower[:, j] = False
-                at_upper[:, j] = False
-                at_lower[trailing[lower], j] = True
-                at_upper[trailing[upper], j] = True
-            X = lu.solve(rhs + multipliers)
-            X[at_lower] = 0.0
-            X[at_upper] = 1.0
-        W[free] = np.clip(X, 0.0, 1.0)
+        W[free] = box_qp(Q_free[:, free], -(Q_free[:, b] @ bc))
     sums = W.sum(axis=1)
     if (sums <= 0).any():
         i = int(np.flatnonzero(sums <= 0)[0])
