@@ -97,9 +97,10 @@ def configured_plugin(config_file: Path | None) -> BasePlugin:
 
 def gradebook_due(db_url: str, assignment: str) -> datetime | None:
     """The due date nbgrader's gradebook holds for ``assignment`` (``nbgrader db assignment add NAME --duedate=...``)."""
-    from nbgrader.api import Gradebook, MissingEntry
+    from nbgrader.api import MissingEntry
 
-    with Gradebook(db_url) as gb:
+    # Another run may be creating this database's tables right now: open it as grading does.
+    with record.open_gradebook(db_url) as gb:
         try:
             return gb.find_assignment(assignment).duedate
         except MissingEntry:
@@ -180,9 +181,9 @@ def apply_late_policy(out: Path, submitted: Path, assignment: str, due: datetime
 
 def _record_in_gradebook(db_url: str, assignment: str, due: datetime, rows: list[dict], times: dict) -> None:
     """Due date, timestamps and penalties where formgrader shows them (nbgrader's own columns)."""
-    from nbgrader.api import Gradebook, MissingEntry
+    from nbgrader.api import MissingEntry
 
-    with Gradebook(db_url) as gb:
+    with record.open_gradebook(db_url) as gb:
         gb.find_assignment(assignment).duedate = due
         for row in rows:
             try:
