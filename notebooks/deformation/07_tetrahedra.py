@@ -246,7 +246,7 @@ def tet_mass_matrix(V, T):
 
 # %% deformlab={"tests": "tet_mass_matrix", "points": 2}
 _V = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]])
-_M = sp.csr_matrix(tet_mass_matrix(_V, np.array([[0, 1, 2, 3], [1, 2, 3, 4]]))).toarray()
+_M = sp.csr_matrix(tet_mass_matrix(_V, np.array([[0, 1, 2, 3], [1, 3, 2, 4]]))).toarray()
 assert _M.shape == (5, 5) and np.allclose(_M, np.diag(np.diag(_M))), "M must be a (5, 5) diagonal matrix here"
 assert np.all(np.diag(_M) > 0), f"masses must be positive, got {np.diag(_M).tolist()}: use |vol| (the second tetrahedron is negatively oriented)"
 assert np.allclose(np.diag(_M), [1 / 24, 1 / 8, 1 / 8, 1 / 8, 1 / 12]), (

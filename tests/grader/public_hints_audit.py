@@ -51,6 +51,7 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "dqs_without_pivot_flip": (("flip the dual quaternions",),),
     "dual_quaternion_transforms_rotation_transposed": (("transposed",),),
     "dual_quaternions_divide_by_w": (("w = 0",),),
+    "deformation_gradients_transposed": (("transposed",),),
     "edges_as_floats": (("integer",),),
     "edges_not_deduplicated": (("remove duplicates",),),
     "energy_unit_weights": (("without the weights",),),
@@ -80,6 +81,11 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "solve_energy_before_global": (("rotations the global step used",),),
     "solve_keeps_u0_handles": (("before the first local step",),),
     "translation_between_centroids": (("q̄ - R p̄",),),
+    "tet_energy_unweighted": (("per unit volume",),),
+    "tet_laplacian_stiffness_sign": (("signs are flipped",),),
+    "tet_mass_signed_volumes": (("use |vol|",),),
+    "tet_rotations_no_sign_correction": (("flip the singular vector",),),
+    "tet_volumes_unsigned": (("keep the sign",),),
 }
 
 
