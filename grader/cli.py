@@ -80,14 +80,12 @@ def _late_policy(args):
     from grader import late_policy
     from grader.paths import course_paths
 
-    due = late_policy.parse_due(args.due) if args.due else None
-    if due is None:
-        try:
-            paths = course_paths()
-        except FileNotFoundError:
-            paths = None
-        if paths is not None and (args.db or (paths.course / "gradebook.db").is_file()):
-            due = late_policy.gradebook_due(args.db or paths.gradebook_url, args.assignment)
+    try:
+        paths = course_paths()
+    except FileNotFoundError:  # grading itself says so
+        paths = None
+    db = args.db or (paths.gradebook_url if paths is not None and (paths.course / "gradebook.db").is_file() else None)
+    due = late_policy.parse_due(args.due) if args.due else (late_policy.gradebook_due(db, args.assignment) if db else None)
     if due is None:
         if args.late_policy is not None:
             raise ValueError("--late-policy needs a due date: --due, or the gradebook's "
@@ -95,8 +93,7 @@ def _late_policy(args):
         return None, None
     if args.late_policy is not None:
         return due, late_policy.make_plugin(args.late_policy)
-    paths = course_paths()
-    return due, late_policy.configured_plugin(paths.course / "nbgrader_config.py")
+    return due, late_policy.configured_plugin(paths.course / "nbgrader_config.py" if paths is not None else None)
 
 
 def _cmd_grade(args) -> int:

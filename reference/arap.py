@@ -18,6 +18,7 @@ import scipy.sparse.linalg as spla
 
 from reference.sign_correction import optimal_rotation
 from starter.validation import (
+    component_without,
     as_corner_weights,
     as_faces,
     as_float_array,
@@ -232,12 +233,8 @@ def arap_precompute(V, F, handles):
     check_no_degenerate_triangles(V, F)
     n, d = V.shape
     handles = as_handles(handles, n)
-    edges = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
-    adjacency = sp.csr_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
-    _, component = sp.csgraph.connected_components(adjacency, directed=False)
-    lonely = np.setdiff1d(component, component[handles])
-    if lonely.size:
-        vertex = int(np.flatnonzero(component == lonely[0])[0])
+    vertex = component_without(F, n, handles)
+    if vertex is not None:
         raise ValueError(
             f"handles must include a vertex of every connected component of the mesh: "
             f"the component of vertex {vertex} has none, so its position is undetermined"

@@ -9,6 +9,7 @@ from reference.arap import cotangent_laplacian
 from reference.box_qp import box_qp
 from reference.tetrahedra import as_tet_mesh, tet_cotangent_laplacian, tet_mass_matrix
 from starter.validation import (
+    component_without,
     as_faces,
     as_float_array,
     as_handles,
@@ -199,11 +200,8 @@ def unconstrained_biharmonic_weights(V, F, b, bc):
         )
     Q = biharmonic_matrix(V, F)
     n = len(V)
-    adjacency = sp.coo_matrix((np.ones(F.size), (F.ravel(), np.roll(F, 1, axis=1).ravel())), shape=(n, n))
-    _, component = sp.csgraph.connected_components(adjacency, directed=False)
-    unconstrained = np.setdiff1d(component, component[b])
-    if unconstrained.size:
-        i = int(np.flatnonzero(component == unconstrained[0])[0])
+    i = component_without(F, n, b)
+    if i is not None:
         raise ValueError(
             f"b must contain a vertex of every connected component of the mesh: "
             f"the component of vertex {i} has none, so its weights are undetermined"
@@ -272,11 +270,8 @@ def bbw(V, F, b, bc):
         raise ValueError(f"bc must have rows with a positive sum (they are normalized), row {i} is all zeros")
     Q = biharmonic_matrix(V, F)
     n, m = len(V), bc.shape[1]
-    adjacency = sp.coo_matrix((np.ones(F.size), (F.ravel(), np.roll(F, 1, axis=1).ravel())), shape=(n, n))
-    _, component = sp.csgraph.connected_components(adjacency, directed=False)
-    unconstrained = np.setdiff1d(component, component[b])
-    if unconstrained.size:
-        i = int(np.flatnonzero(component == unconstrained[0])[0])
+    i = component_without(F, n, b)
+    if i is not None:
         raise ValueError(
             f"b must contain a vertex of every connected component of the mesh: "
             f"the component of vertex {i} has none, so its weights are undetermined"

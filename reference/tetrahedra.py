@@ -28,7 +28,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from reference.sign_correction import optimal_rotation
-from starter.validation import as_float_array, as_handle_positions, as_handles, as_vertices
+from starter.validation import as_float_array, as_handle_positions, as_handles, as_vertices, component_without
 
 # The six edges of a tetrahedron in libigl's order (``igl.cotmatrix_entries``).
 TET_EDGES = np.array([[1, 2], [2, 0], [0, 1], [3, 0], [3, 1], [3, 2]])
@@ -313,12 +313,8 @@ def tet_arap_precompute(V, T, handles):
     V, T = as_tet_mesh(V, T)
     n = len(V)
     handles = as_handles(handles, n)
-    ring = np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 3]]])
-    adjacency = sp.csr_matrix((np.ones(len(ring)), (ring[:, 0], ring[:, 1])), shape=(n, n))
-    _, component = sp.csgraph.connected_components(adjacency, directed=False)
-    lonely = np.setdiff1d(component, component[handles])
-    if lonely.size:
-        vertex = int(np.flatnonzero(component == lonely[0])[0])
+    vertex = component_without(T, n, handles)
+    if vertex is not None:
         raise ValueError(
             f"handles must include a vertex of every connected component of the mesh: "
             f"the component of vertex {vertex} has none, so its position is undetermined"

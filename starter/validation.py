@@ -188,6 +188,30 @@ def as_handles(handles, n_vertices: int, name: str = "handles") -> np.ndarray:
     return _distinct_indices(handles, n_vertices, name, "vertex", "at least one vertex must be constrained", "vertices")
 
 
+def component_without(F: np.ndarray, n_vertices: int, constrained: np.ndarray) -> int | None:
+    """A vertex of a connected component of the mesh with no vertex in ``constrained``, or None.
+
+    Parameters
+    ----------
+    F : (f, k) numpy.ndarray of int
+        Cells (triangles ``k = 3``, tetrahedra ``k = 4``), already checked.
+    n_vertices : int
+    constrained : (c,) numpy.ndarray of int
+        Vertices whose values are fixed (handles, ``b``).
+
+    Returns
+    -------
+    int or None
+        The smallest vertex of the first component no constraint reaches: the
+        values there are undetermined.
+    """
+    # corner i joined to corner i+1 of every cell joins all of its corners
+    adjacency = sp.coo_matrix((np.ones(F.size), (F.ravel(), np.roll(F, 1, axis=1).ravel())), shape=(n_vertices, n_vertices))
+    _, component = sp.csgraph.connected_components(adjacency, directed=False)
+    free = np.setdiff1d(component, component[constrained])
+    return int(np.flatnonzero(component == free[0])[0]) if free.size else None
+
+
 def as_handle_positions(handle_positions, n_handles: int, d: int, name: str = "handle_positions") -> np.ndarray:
     """Check ``(n_handles, d)`` target positions."""
     a = as_float_array(handle_positions, name, ndim=2)

@@ -154,8 +154,7 @@ def grade_on_dask(
         if refusing:
             print(f"warning: {len(refusing)} Dask worker(s) without bubblewrap get no units: {', '.join(sorted(refusing))}", file=sys.stderr)
         queue = list(todo)
-        units: dict = {}
-        restricted: dict = {}  # future -> the workers it may run on (None: any)
+        in_flight: dict = {}  # future -> (unit, the workers it may run on; None: any)
 
         def allowed() -> list[str] | None:
             if not refusing:
@@ -174,18 +173,21 @@ def grade_on_dask(
                 workers=workers,
                 allow_other_workers=False,
             )
-            units[future] = unit
-            restricted[future] = workers
+            in_flight[future] = (unit, workers)
             return True
 
         def drop(future):
-            restricted.pop(future, None)
             future.release()
-            return units.pop(future)
+            return in_flight.pop(future)[0]
+
+        def take_back(future) -> None:
+            """Cancel a unit in flight and queue it first again."""
+            future.cancel()
+            queue.insert(0, drop(future))
 
         def refill() -> None:
             limit = IN_FLIGHT_PER_THREAD * max(1, sum(client.nthreads().values()))
-            while queue and len(units) < limit and submit(queue[0]):
+            while queue and len(in_flight) < limit and submit(queue[0]):
                 queue.pop(0)
 
         if allowed() == []:  # no worker of this cluster can sandbox a notebook
@@ -194,37 +196,35 @@ def grade_on_dask(
             return
         refill()
         stalled_since = None
-        while units or queue:
+        while in_flight or queue:
             try:
-                done, _ = wait(list(units), timeout=WATCH_SECONDS, return_when="FIRST_COMPLETED") if units else (set(), None)
+                done, _ = wait(list(in_flight), timeout=WATCH_SECONDS, return_when="FIRST_COMPLETED") if in_flight else (set(), None)
             except TimeoutError:
                 done = set()
             if not done:
                 # Nothing finished for a while: can the units still run? A unit pinned to
                 # sandboxing workers that all died would wait in the scheduler forever.
                 alive = set(client.nthreads()) - refusing
-                for future in [f for f, workers in restricted.items() if workers is not None and not alive & set(workers)]:
-                    future.cancel()
-                    queue.insert(0, drop(future))
+                for future in [f for f, (_, workers) in in_flight.items() if workers is not None and not alive & set(workers)]:
+                    take_back(future)
                 refill()
                 if alive:
                     stalled_since = None
-                    if not units:
+                    if not in_flight:
                         time.sleep(WATCH_SECONDS)
                     continue
                 stalled_since = stalled_since or time.monotonic()
                 if time.monotonic() - stalled_since < stall_seconds:
-                    time.sleep(0 if units else WATCH_SECONDS)
+                    time.sleep(0 if in_flight else WATCH_SECONDS)
                     continue
-                for future in list(units):
-                    future.cancel()
-                    queue.insert(0, drop(future))
+                for future in list(in_flight):
+                    take_back(future)
                 for unit in queue:
                     yield unit, error_of(unit, NO_WORKER)
                 return
             stalled_since = None
             for future in done:
-                unit = units[future]
+                unit = in_flight[future][0]
                 try:
                     result = future.result()
                 except SandboxUnavailable as exc:

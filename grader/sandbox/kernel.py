@@ -67,7 +67,7 @@ class SandboxedKernelClient(AsyncKernelClient):
     replies and outputs of the cell it runs (it matches the parent ``msg_id``).
     """
 
-    async def _ready_wait_for_ready(self, timeout: float | None = None) -> None:
+    async def wait_for_ready(self, timeout: float | None = None) -> None:
         deadline = time.monotonic() + (float("inf") if timeout is None else timeout)
         while True:
             msg_id = self.kernel_info()
@@ -84,7 +84,6 @@ class SandboxedKernelClient(AsyncKernelClient):
             if time.monotonic() > deadline:
                 raise RuntimeError(f"Kernel didn't respond in {timeout:.0f} seconds")
 
-    wait_for_ready = _ready_wait_for_ready
 
     @staticmethod
     async def _message_of(channel, msg_id: str, wanted, deadline: float) -> dict | None:
