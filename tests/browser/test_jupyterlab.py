@@ -10,8 +10,10 @@ every assertion message.
 from __future__ import annotations
 
 import io
+import json
 import re
 import time
+import urllib.request
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -34,18 +36,22 @@ pytestmark = [pytest.mark.slow, pytest.mark.timeout(300)]
 ROOT = Path(__file__).resolve().parents[2]
 RELEASE_NOTEBOOK = "05_lbs"
 DEMO = "demo_skinning"
-# JupyterLab settings for a quiet, deterministic page: no news or update toasts; every cell in the DOM.
+# JupyterLab settings for a quiet, deterministic page: no news or update toasts; every cell in the DOM;
+# the notebook's kernel starts without a "Select Kernel" dialog (Lab opens one when the kernel specs
+# load after the notebook, as on a busy machine, and that dialog swallows the clicks on the Run menu).
 SETTINGS = {
     "@jupyterlab/apputils-extension/notification.jupyterlab-settings": '{"fetchNews": "false", "checkForUpdates": false}',
-    "@jupyterlab/notebook-extension/tracker.jupyterlab-settings": '{"windowingMode": "none"}',
+    "@jupyterlab/notebook-extension/tracker.jupyterlab-settings": '{"windowingMode": "none", "autoStartDefaultKernel": true}',
 }
 PANEL = ".jp-NotebookPanel:not(.lm-mod-hidden)"
+# Every code cell shows an execution count and the kernel is idle. ("Idle and no [*]" alone was not
+# enough: on a loaded machine it held when only the first cell had run.)
 FINISHED = """(panel) => {
   const p = document.querySelector(panel);
   if (!p) return false;
   const status = p.querySelector('.jp-Notebook-ExecutionIndicator')?.dataset.status;
   const prompts = Array.from(p.querySelectorAll('.jp-CodeCell .jp-InputPrompt')).map(e => e.textContent.trim());
-  return status === 'idle' && prompts.length > 0 && /^\\[\\d+\\]:$/.test(prompts[0]) && !prompts.some(t => t.includes('*'));
+  return status === 'idle' && prompts.length > 0 && prompts.every(t => /^\\[\\d+\\]:$/.test(t));
 }"""
 RUN_TIMEOUT_MS = 120_000
 
@@ -97,6 +103,12 @@ def lab(workdir):
         yield Lab(server.url, server.token, server.log, lab_root)
 
 
+def dialogs(page) -> list[str]:
+    """The text of every JupyterLab dialog open on the page (a kernel that died, a file changed on disk...)."""
+    found = page.locator(".jp-Dialog")
+    return [" ".join(found.nth(k).inner_text().split()) for k in range(found.count())]
+
+
 def run_all_cells(page, lab: Lab, name: str, shots: Path):
     """Open ``name``.ipynb in its own workspace, Run > Run All Cells, wait for the kernel, save.
 
@@ -106,12 +118,18 @@ def run_all_cells(page, lab: Lab, name: str, shots: Path):
         The notebook as JupyterLab saved it, and a screenshot of the page.
     """
     page.goto(f"{lab.url}/lab/workspaces/{name}/tree/{name}.ipynb?token={lab.token}")
+    # Run All before the notebook's kernel is up opens a kernel selector or starts a second kernel
+    # that drops the queued cells (both seen on a loaded machine): wait for the server's session first.
+    kernel = idle_kernel(lab, f"{name}.ipynb")
     page.wait_for_selector(f"{PANEL} .jp-Notebook-ExecutionIndicator[data-status='idle']", timeout=60_000)
     first_prompt = page.locator(f"{PANEL} .jp-CodeCell .jp-InputPrompt").first
     for attempt in range(3):
         # A click that lands while the freshly opened notebook is still settling can be lost: retry it.
-        page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
-        page.locator(".lm-Menu-itemLabel", has_text=re.compile(r"^Run All Cells$")).click()
+        try:
+            page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
+            page.locator(".lm-Menu-itemLabel", has_text=re.compile(r"^Run All Cells$")).click()
+        except sync_api.TimeoutError:
+            pytest.fail(f"could not click Run > Run All Cells; dialogs open: {dialogs(page)}")
         try:
             page.wait_for_function("(el) => /\\[(\\*|\\d+)\\]/.test(el.textContent)", arg=first_prompt.element_handle(),
                                    polling=200, timeout=10_000)
@@ -119,16 +137,51 @@ def run_all_cells(page, lab: Lab, name: str, shots: Path):
         except sync_api.TimeoutError:
             if attempt == 2:
                 raise
-    page.wait_for_function(FINISHED, arg=PANEL, polling=500, timeout=RUN_TIMEOUT_MS)
-    path = lab.root / f"{name}.ipynb"
-    saved_before = path.stat().st_mtime_ns
+    shot = shots / f"{name}.png"
+    try:
+        page.wait_for_function(FINISHED, arg=PANEL, polling=500, timeout=RUN_TIMEOUT_MS)
+    except sync_api.TimeoutError:
+        # A cell that raised stops Run All; a kernel that died leaves a dialog. Show what was on the page.
+        page.screenshot(path=str(shot))
+        shown = page.locator(f"{PANEL} .jp-OutputArea-output[data-mime-type='application/vnd.jupyter.stderr']")
+        pytest.fail(f"{name} did not finish in {RUN_TIMEOUT_MS // 1000} s; dialogs: {dialogs(page)}; "
+                    f"stderr shown: {[shown.nth(k).inner_text()[-300:] for k in range(shown.count())]}; "
+                    f"screenshot: {shot}; server log:\n{lab.log_tail()}")
+    page.screenshot(path=str(shot))
+    assert idle_kernel(lab, f"{name}.ipynb") == kernel, f"{name}'s kernel was replaced while it ran; screenshot: {shot}"
+    return saved(page, lab.root / f"{name}.ipynb"), shot
+
+
+def idle_kernel(lab: Lab, path: str, timeout_s: float = 90.0) -> str:
+    """The id of the kernel the server runs for notebook ``path``, once it is idle."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        with urllib.request.urlopen(f"{lab.url}/api/sessions?token={lab.token}", timeout=10) as answer:
+            sessions = [s for s in json.load(answer) if s.get("path") == path and s.get("kernel")]
+        if len(sessions) == 1 and sessions[0]["kernel"]["execution_state"] == "idle":
+            return sessions[0]["kernel"]["id"]
+        time.sleep(0.3)
+    pytest.fail(f"no idle kernel for {path} within {timeout_s:.0f} s; sessions: {sessions}; server log:\n{lab.log_tail()}")
+
+
+def saved(page, path: Path):
+    """Save the open notebook and read back what JupyterLab wrote to ``path``.
+
+    The server writes a notebook in place, so the file is read only once its tab is no longer dirty
+    and it parses: a half-written file is never taken for the saved one.
+    """
+    before = path.stat().st_mtime_ns
     page.keyboard.press("Control+s")
     deadline = time.monotonic() + 30
-    while path.stat().st_mtime_ns == saved_before and time.monotonic() < deadline:
-        time.sleep(0.2)
-    shot = shots / f"{name}.png"
-    page.screenshot(path=str(shot))
-    return nbformat.read(path, as_version=4), shot
+    while time.monotonic() < deadline:
+        page.wait_for_timeout(200)
+        if path.stat().st_mtime_ns == before or page.locator(".lm-TabBar-tab.jp-mod-dirty").count():
+            continue
+        try:
+            return nbformat.read(path, as_version=4)
+        except (ValueError, nbformat.reader.NotJSONError):
+            continue
+    pytest.fail(f"JupyterLab did not save {path.name} within 30 s")
 
 
 def errors(nb) -> list[str]:
