@@ -64,6 +64,8 @@ LECTURE_STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
             "deformation_gradients",
             "tet_arap_rotations",
             "tet_arap_energy",
+            "tet_arap_precompute",
+            "tet_arap_global_step",
         ),
     ),
 }

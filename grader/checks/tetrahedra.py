@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from grader.checks.base import Case, FunctionChecks, as_array, as_float, close, verdict
+from grader.checks.base import Case, FunctionChecks, Ref, Step, as_array, as_float, close, verdict
 from grader.checks.shape_matching import random_rotation
 from starter.meshes import load_mesh
 
@@ -252,3 +252,118 @@ class TetArapEnergyChecks(FunctionChecks):
             elif np.isclose(E, float(distance.sum()), rtol=1e-9):
                 hint = " (each tetrahedron's term is weighted by its volume)"
         return [verdict("E matches", ok, f"got {E:.10g}, expected {want:.10g}{hint}" if not ok else where)]
+
+
+def _arap_scenes(rng: np.random.Generator):
+    """Tet meshes with handles (in random order), their targets and the rotations of a realistic local step.
+
+    Returns ``{label: (V, T, handles, P, R)}``: the bar's two ends, the second
+    twisted; the hand's wrist and fingertips moved (a bend with noise); two
+    tetrahedra of opposite orientations held at one vertex each.
+    """
+    from grader.contract import reference_function
+
+    scenes = {}
+    for label, (V, T), axis in (
+        ("the volumetric bar, half the tetrahedra negatively oriented, ends held and twisted",
+         _shuffled("bar_tet", rng, flip=True), 0),
+        ("the hand (jittered, shuffled), wrist and fingertips moved", _shuffled("hand_tet", rng), 1),
+    ):
+        low, high = V[:, axis].min(), V[:, axis].max()
+        step = 0.05 * (high - low)
+        handles = rng.permutation(np.flatnonzero((V[:, axis] <= low + step) | (V[:, axis] >= high - step)))
+        U = _deformed(V, rng)["a twist with noise (some tetrahedra inverted)"]
+        scenes[label] = (V, T, handles, U[handles])
+    V, T = _single(rng)
+    handles = np.array([4, 3])
+    scenes["two random tetrahedra, one of each orientation, one vertex of each held"] = (
+        V, T, handles, V[handles] + rng.normal(0, 0.3, (2, 3)))
+    out = {}
+    for label, (V, T, handles, P) in scenes.items():
+        U = V.copy()
+        U[handles] = P
+        R = np.asarray(reference_function("tet_arap_rotations")(V, U, T))
+        # some tetrahedra get random rotations instead, so the target is not near any ARAP iterate
+        for t in np.flatnonzero(rng.uniform(size=len(T)) < 0.3):
+            R[t] = random_rotation(rng, 3)
+        out[label] = (V, T, handles, P, R)
+    return out
+
+
+def _global_step_verdicts(got, expected, V, T, handles, P, R) -> list:
+    """Handles exact, energy at the reference's minimum for ``R``, and the same minimizer; hints for common slips."""
+    import types
+
+    from grader.checks.arap import DIRECT_RTOL, SOLVE_RTOL, energy_verdict
+    from grader.contract import reference_function
+
+    n = len(V)
+    U = as_array(got, (n, 3), "U")
+    want = as_array(expected, (n, 3), "the reference's U")
+    energy = reference_function("tet_arap_energy")
+    J = reference_function("deformation_gradients")(V, want, T)
+    volumes = np.abs(reference_function("tet_volumes")(V, T))
+    scale = float(volumes @ (np.sum(J**2, axis=(1, 2)) + 3.0))
+    size = float(np.linalg.norm(np.ptp(V, axis=0)))
+    err = np.abs(U[handles] - P).max(axis=1)
+    worst = int(np.argmax(err))
+    handles_met = bool(err[worst] <= 1e-12 * max(1.0, float(np.abs(P).max())))
+    same, where = close(U, want, SOLVE_RTOL, size)
+    hint = ""
+    if not same:
+        precompute, step = reference_function("tet_arap_precompute"), reference_function("tet_arap_global_step")
+        data = precompute(V, T, handles)
+        signed = types.SimpleNamespace(**{**vars(data), "volumes": reference_function("tet_volumes")(V, T)})
+        no_columns = types.SimpleNamespace(**{**vars(data), "L_free_handles": 0.0 * data.L_free_handles})
+        for variant, why in (
+            (lambda: step(data, np.transpose(R, (0, 2, 1)), P), "B takes R_t ∇φ_i with R_t itself, not its transpose"),
+            (lambda: step(signed, R, P), "weight B by |vol_t|: a negatively oriented tetrahedron pulls the wrong way with the signed volume"),
+            (lambda: step(no_columns, R, P), "the handles' columns belong on the right-hand side: (-L)_ff U_f = B_f + L_fh U_h"),
+        ):
+            if close(U, variant(), SOLVE_RTOL, size)[0]:
+                hint = f" ({why})"
+                break
+    return [
+        verdict("handles met exactly", handles_met,
+                f"U[{handles[worst]}] is {U[handles[worst]].tolist()}, its handle position is {P[worst].tolist()}"),
+        energy_verdict("minimal energy for the given rotations", float(energy(V, U, T, R)),
+                       float(energy(V, want, T, R)), scale, DIRECT_RTOL, at_most=True),
+        verdict("U is the unique minimizer", same, f"{where} (vertex, coordinate){hint}"),
+    ]
+
+
+class TetArapPrecomputeChecks(FunctionChecks):
+    function = "tet_arap_precompute"
+    needs = ("tet_arap_global_step",)
+    description = "the precomputed data serves several global steps in a row, handles in any order"
+
+    def cases(self, rng):
+        cases = []
+        for label, (V, T, handles, P, R) in _arap_scenes(rng).items():
+            P2 = P + rng.normal(0.0, 0.1, P.shape)
+            R2 = np.stack([random_rotation(rng, 3) for _ in range(len(T))])
+            steps = [Step("tet_arap_precompute", (V, T, handles)), Step("tet_arap_global_step", (Ref(0), R, P)),
+                     Step("tet_arap_global_step", (Ref(0), R2, P2))]
+            cases.append(Case(f"{label}: two global steps with one precomputation", steps, {"R": R2, "P": P2}))
+        return cases
+
+    def verify(self, case, got, expected):
+        V, T, handles = case.args(0)
+        return _global_step_verdicts(got, expected, V, T, handles, case.context["P"], case.context["R"])
+
+
+class TetArapGlobalStepChecks(FunctionChecks):
+    function = "tet_arap_global_step"
+    needs = ("tet_arap_precompute",)
+    description = "U minimizing the tetrahedral ARAP energy for given rotations, handles met exactly, both orientations"
+
+    def cases(self, rng):
+        return [
+            Case(label, [Step("tet_arap_precompute", (V, T, handles)), Step("tet_arap_global_step", (Ref(0), R, P))])
+            for label, (V, T, handles, P, R) in _arap_scenes(rng).items()
+        ]
+
+    def verify(self, case, got, expected):
+        V, T, handles = case.args(0)
+        _, R, P = case.args(1)
+        return _global_step_verdicts(got, expected, V, T, handles, P, R)

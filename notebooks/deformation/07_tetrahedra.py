@@ -289,7 +289,8 @@ assert abs(_M - igl.massmatrix(V_hand, T_hand)).max() < 1e-14, "M differs from i
 # step can increase $E$.
 #
 # **Your tasks.** `deformation_gradients(V, U, T)` `(f, 3, 3)`;
-# `tet_arap_rotations(V, U, T)` `(f, 3, 3)`; `tet_arap_energy(V, U, T, R)`.
+# `tet_arap_rotations(V, U, T)` `(f, 3, 3)`; `tet_arap_energy(V, U, T, R)`;
+# then, below, the global step.
 
 # %% deformlab={"solution": "deformation_gradients"}
 import numpy as np
@@ -418,31 +419,188 @@ _U = V_hand @ _Rz.T
 assert tet_arap_energy(V_hand, _U, T_hand, tet_arap_rotations(V_hand, _U, T_hand)) < 1e-20, "a rotation costs nothing"
 
 # %% [markdown]
-# The global step and the solver, built from your functions (as in stage 03,
-# with one rotation per tetrahedron instead of one per vertex). `tet_arap`
-# reaches the pose in `steps` steps of `iterations` iterations each, each step
-# starting from the last one's result.
+# ### The global step
+#
+# Hold the rotations fixed. $J_t = \sum_k u_{T[t,k]} \nabla\varphi_k^\top$ is
+# linear in $U$, so $E$ is quadratic in $U$; its gradient with respect to a
+# vertex $u_i$ is
+#
+# $$
+# \frac{\partial E}{\partial u_i} = 2 \sum_{t \ni i} |\operatorname{vol}_t|\, (J_t - R_t)\, \nabla\varphi_i .
+# $$
+#
+# The $J_t$ part sums to $\sum_j \big(\sum_t |\operatorname{vol}_t|\, \nabla\varphi_i \cdot \nabla\varphi_j\big) u_j = (-L U)_i$,
+# with your `tet_cotangent_laplacian` $L$ from §2. Setting the gradient to zero
+# at every free vertex:
+#
+# $$
+# -L\,U = B, \qquad B_i = \sum_{t \ni i} |\operatorname{vol}_t|\, R_t\, \nabla\varphi_i ,
+# $$
+#
+# rows of the `(n, 3)` arrays $U$ and $B$. It is stage 03's system with a new
+# right-hand side: split free vertices $f$ from handles $h$ and solve
+# $(-L)_{ff}\, U_f = B_f + L_{fh}\, \hat U_h$. $(-L)_{ff}$ depends neither on $R$
+# nor on where the handles go, so it is factorized once.
+#
+# **Your tasks.** `tet_arap_precompute(V, T, handles)` returns an object of your
+# design with what the iterations reuse (the factorization among it), and
+# `tet_arap_global_step(data, R, handle_positions)` returns the `(n, 3)` array
+# `U` with `U[handles] = handle_positions` that minimizes
+# `tet_arap_energy(V, U, T, R)`.
+
+# %% deformlab={"solution": "tet_arap_precompute"}
+import types
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+
+def tet_arap_precompute(V, T, handles):
+    """What the tetrahedral ARAP iterations reuse: the rest mesh, the hat gradients and the factorized system.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+        Rest positions.
+    T : (f, 4) array_like of int
+        Tetrahedra.
+    handles : (h,) array_like of int
+        Distinct vertex indices whose positions are prescribed; at least one.
+
+    Returns
+    -------
+    data : object of your design
+        Everything ``tet_arap_global_step`` needs.
+
+    Raises
+    ------
+    ValueError
+        If ``handles`` is empty, repeats a vertex or is out of range.
+    """
+    ### BEGIN SOLUTION
+    V, T = np.array(V, dtype=float), np.array(T, dtype=np.int64)  # copies: later edits cannot reach the caller
+    handles = np.array(handles, dtype=np.int64).reshape(-1)
+    if handles.size == 0 or handles.min() < 0 or handles.max() >= len(V) or len(np.unique(handles)) != handles.size:
+        raise ValueError(f"handles must be distinct vertex indices in range({len(V)}), at least one; got {handles.tolist()}")
+    free = np.setdiff1d(np.arange(len(V)), handles)
+    D = np.stack([V[T[:, k]] - V[T[:, 0]] for k in (1, 2, 3)], axis=2)  # columns v_k - v_0
+    rows = np.linalg.inv(D)  # rows ∇φ_1, ∇φ_2, ∇φ_3
+    K = -sp.csr_matrix(tet_cotangent_laplacian(V, T))  # -L
+    return types.SimpleNamespace(
+        V=V, T=T, handles=handles, free=free,
+        volumes=np.abs(tet_volumes(V, T)),
+        gradients=np.concatenate([-rows.sum(axis=1, keepdims=True), rows], axis=1),  # (f, 4, 3): ∇φ of each corner
+        K_fh=K[free][:, handles],
+        K_ff=spla.splu(K[free][:, free].tocsc()),  # the same for every R and every handle position
+    )
+    ### END SOLUTION
+
+# %% deformlab={"tests": "tet_arap_precompute", "points": 1}
+_ends = load_handles("bar_tet")
+_h = np.concatenate([_ends["left"], _ends["right"]])
+_copies = (V_bar.copy(), T_bar.copy(), _h.copy())
+_data = tet_arap_precompute(V_bar, T_bar, _h)
+assert all(np.array_equal(_a, _b) for _a, _b in zip((V_bar, T_bar, _h), _copies)), (
+    "tet_arap_precompute must not modify V, T or handles"
+)
+for _bad, _why in (([0, 0], "repeated"), ([len(V_bar)], "out of range"), ([], "empty")):
+    try:
+        tet_arap_precompute(V_bar, T_bar, np.array(_bad, dtype=np.int64))
+    except ValueError:
+        pass
+    except Exception as _exc:  # noqa: BLE001 - any other error is not the one asked for
+        raise AssertionError(f"handles {_bad} ({_why}) must raise ValueError, got {type(_exc).__name__}: {_exc}") from None
+    else:
+        raise AssertionError(f"handles {_bad} ({_why}) must raise ValueError")
+
+# %% deformlab={"solution": "tet_arap_global_step"}
+import numpy as np
+
+
+def tet_arap_global_step(data, R, handle_positions):
+    """The global step: the positions minimizing the tetrahedral ARAP energy for fixed rotations.
+
+    Parameters
+    ----------
+    data : object
+        From ``tet_arap_precompute``.
+    R : (f, 3, 3) array_like of float
+        One rotation per tetrahedron.
+    handle_positions : (h, 3) array_like of float
+        Where the handles go.
+
+    Returns
+    -------
+    U : (n, 3) numpy.ndarray
+        ``U[handles] = handle_positions``; the free rows solve ``(-L)_ff U_f = B_f - (-L)_fh U_h``.
+    """
+    ### BEGIN SOLUTION
+    # |vol_t| R_t ∇φ_k for every corner k of every tetrahedron t
+    corner = data.volumes[:, None, None] * np.einsum("tab,tkb->tka", np.asarray(R, dtype=float), data.gradients)
+    B = np.zeros_like(data.V)
+    np.add.at(B, data.T.ravel(), corner.reshape(-1, 3))  # each corner's term goes to its vertex
+    U = np.empty_like(data.V)
+    U[data.handles] = handle_positions
+    U[data.free] = data.K_ff.solve(B[data.free] - data.K_fh @ U[data.handles])
+    return U
+    ### END SOLUTION
+
+# %% deformlab={"tests": "tet_arap_global_step", "points": 3}
+_ends = load_handles("bar_tet")
+_h = np.concatenate([_ends["left"], _ends["right"]])
+_data = tet_arap_precompute(V_bar, T_bar, _h)
+_f = len(T_bar)
+
+_U = tet_arap_global_step(_data, np.tile(np.eye(3), (_f, 1, 1)), V_bar[_h])
+assert _U.shape == V_bar.shape, f"U must have the shape of V, {V_bar.shape}, got {_U.shape}"
+_err = np.linalg.norm(_U - V_bar, axis=1)
+assert _err.max() < 1e-8, f"with R_t = I and the handles at rest the answer is V; vertex {_err.argmax()} is off by {_err.max():.2e}"
+
+_Q = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])  # a rotation
+_t = np.array([0.5, -1.0, 2.0])
+_U = tet_arap_global_step(_data, np.tile(_Q, (_f, 1, 1)), V_bar[_h] @ _Q.T + _t)
+_err = np.linalg.norm(_U - (V_bar @ _Q.T + _t), axis=1)
+assert _err.max() < 1e-8, (
+    f"with every R_t = Q and the handles moved rigidly by Q, U must be V moved rigidly; "
+    f"vertex {_err.argmax()} is off by {_err.max():.2e} (B_i takes R_t ∇φ_i: R_t itself, not its transpose)"
+)
+
+# Rotations from a real deformation, handles somewhere new, half the tetrahedra negatively oriented.
+_T = T_bar.copy()
+_T[::2] = _T[::2][:, [1, 0, 2, 3]]
+_R = tet_arap_rotations(V_bar, V_bar + 0.05 * rng.normal(size=V_bar.shape), _T)
+_target = V_bar[_h] + 0.1 * rng.normal(size=(len(_h), 3))
+_U = tet_arap_global_step(tet_arap_precompute(V_bar, _T, _h), _R, _target)
+assert np.array_equal(_U[_h], _target), "U[handles] must equal handle_positions exactly"
+# E is quadratic in U, so at its constrained minimum E(U + D) = E(U - D) for any D that keeps the handles.
+_E = tet_arap_energy(V_bar, _U, _T, _R)
+for _ in range(3):
+    _D = 0.01 * rng.normal(size=V_bar.shape)
+    _D[_h] = 0.0
+    _plus, _minus = tet_arap_energy(V_bar, _U + _D, _T, _R), tet_arap_energy(V_bar, _U - _D, _T, _R)
+    assert min(_plus, _minus) >= _E - 1e-9 * _E and abs(_plus - _minus) <= 1e-7 * (_plus + _minus), (
+        f"U does not minimize the energy for the given rotations: moving the free vertices by ±D "
+        f"gives {_minus:.8g} and {_plus:.8g} against {_E:.8g} (half the tetrahedra here are negatively "
+        f"oriented: weight B by |vol_t|, and move the handle columns to the right-hand side)"
+    )
+
+# %% [markdown]
+# The solver, built from your functions: `tet_arap` reaches the pose in `steps`
+# steps of `iterations` local–global iterations each, every step starting from
+# the last one's result (as in stage 03, with one rotation per tetrahedron
+# instead of one per vertex).
 
 # %%
 def tet_arap(V, T, handles, targets_at, steps=6, iterations=10):
     """ARAP with tetrahedral cells; ``targets_at(f)`` are the handles' positions at fraction ``f`` of the pose."""
-    L = sp.csr_matrix(tet_cotangent_laplacian(V, T))
-    vol = np.abs(tet_volumes(V, T))
-    D = np.stack([V[T[:, k]] - V[T[:, 0]] for k in (1, 2, 3)], axis=2)
-    B = np.linalg.inv(D)
-    G = np.concatenate([-B.sum(axis=1, keepdims=True), B], axis=1)  # (f, 4, 3) gradients of the hat functions
-    free = np.setdiff1d(np.arange(len(V)), handles)
-    solve = spla.factorized(-L[free][:, free].tocsc())
-    U, energies = V.copy(), []
+    data = tet_arap_precompute(V, T, handles)
+    U, energies = np.array(V, dtype=float), []
     for step in range(1, steps + 1):
         U[handles] = targets_at(step / steps)
         for _ in range(iterations):
             R = tet_arap_rotations(V, U, T)  # local step
-            corner = vol[:, None, None] * np.einsum("tab,tkb->tka", R, G)  # |vol_t| R_t ∇φ_k
-            rhs = np.zeros((len(V), 3))
-            np.add.at(rhs, T.ravel(), corner.reshape(-1, 3))
-            rhs = rhs[free] + L[free][:, handles] @ U[handles]
-            U[free] = np.column_stack([solve(rhs[:, c]) for c in range(3)])  # global step
+            U = tet_arap_global_step(data, R, U[handles])  # global step
             energies.append(tet_arap_energy(V, U, T, R))
     return U, np.array(energies)
 

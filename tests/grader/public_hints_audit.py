@@ -82,6 +82,8 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "solve_keeps_u0_handles": (("before the first local step",),),
     "translation_between_centroids": (("q̄ - R p̄",),),
     "tet_energy_unweighted": (("per unit volume",),),
+    "tet_global_step_rotations_transposed": (("not its transpose",),),
+    "tet_global_step_signed_volumes": (("weight B by |vol_t|",),),
     "tet_laplacian_stiffness_sign": (("signs are flipped",),),
     "tet_mass_signed_volumes": (("use |vol|",),),
     "tet_rotations_no_sign_correction": (("flip the singular vector",),),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import types
 from pathlib import Path
 
 import numpy as np
@@ -91,6 +92,33 @@ def energy_unweighted(V, U, T, R):
     return float(np.sum((J - R) ** 2))
 
 
+def global_step_transposed(data, R, handle_positions):
+    return ref.tet_arap_global_step(data, np.transpose(R, (0, 2, 1)), handle_positions)
+
+
+def global_step_signed_volumes(data, R, handle_positions):
+    signed = types.SimpleNamespace(**{**vars(data), "volumes": ref.tet_volumes(data.V, data.T)})
+    return ref.tet_arap_global_step(signed, R, handle_positions)
+
+
+def global_step_without_handle_columns(data, R, handle_positions):
+    dropped = types.SimpleNamespace(**{**vars(data), "L_free_handles": 0 * data.L_free_handles})
+    return ref.tet_arap_global_step(dropped, R, handle_positions)
+
+
+def global_step_handles_not_copied(data, R, handle_positions):
+    U = ref.tet_arap_global_step(data, R, handle_positions)
+    U[data.handles] = data.V[data.handles]  # solved with the targets, but the rest positions returned
+    return U
+
+
+def precompute_forgets_the_first_handle(V, T, handles):
+    """Factorizes for all handles but the first, which the global step then solves for as a free vertex."""
+    data = ref.tet_arap_precompute(V, T, handles)
+    kept = ref.tet_arap_precompute(V, T, np.asarray(handles)[1:])
+    return types.SimpleNamespace(**{**vars(kept), "handles": np.asarray(handles), "L_free_handles": data.L_free_handles})
+
+
 @pytest.mark.parametrize(
     "function, implementation, hint",
     [
@@ -106,6 +134,10 @@ def energy_unweighted(V, U, T, R):
         ("tet_arap_rotations", rotations_transposed, "R_t is transposed"),
         ("tet_arap_energy", energy_signed_volumes, "use |vol|"),
         ("tet_arap_energy", energy_unweighted, "weighted by its volume"),
+        ("tet_arap_global_step", global_step_transposed, "not its transpose"),
+        ("tet_arap_global_step", global_step_signed_volumes, "weight B by |vol_t|"),
+        ("tet_arap_global_step", global_step_without_handle_columns, "the handles' columns belong on the right-hand side"),
+        ("tet_arap_global_step", global_step_handles_not_copied, "its handle position is"),
     ],
 )
 def test_a_common_mistake_fails_with_a_hint_that_names_it(function, implementation, hint):
@@ -123,10 +155,27 @@ def test_every_tet_function_sees_both_orientations_and_more_than_one_mesh():
     from grader.checks import seeded_cases
 
     for function in ("tet_volumes", "tet_cotangent_laplacian", "tet_mass_matrix", "deformation_gradients",
-                     "tet_arap_rotations", "tet_arap_energy"):
+                     "tet_arap_rotations", "tet_arap_energy", "tet_arap_precompute", "tet_arap_global_step"):
         cases, _ = seeded_cases(function, 0)
-        Ts = [next(a for a in c.args() if np.ndim(a) == 2 and np.shape(a)[1] == 4 and a.dtype.kind == "i") for c in cases]
-        Vs = [c.args()[0] for c in cases]
+        # the mesh is in the first step's arguments (the precomputation's, for the global step)
+        Ts = [next(a for a in c.args(0) if np.ndim(a) == 2 and np.shape(a)[1] == 4 and a.dtype.kind == "i") for c in cases]
+        Vs = [c.args(0)[0] for c in cases]
         signs = np.concatenate([np.sign(ref.tet_volumes(V, T)) for V, T in zip(Vs, Ts)])
         assert (signs > 0).any() and (signs < 0).any(), function
         assert len({len(T) for T in Ts}) >= 3, function
+
+
+def test_the_global_step_checks_pass_the_reference_and_fail_a_precompute_that_drops_a_handle():
+    assert grade("tet_arap_global_step", ref.tet_arap_global_step).fraction == 1.0
+    assert grade("tet_arap_precompute", ref.tet_arap_precompute).fraction == 1.0
+    result = grade("tet_arap_precompute", precompute_forgets_the_first_handle)
+    assert result.fraction < 1.0
+
+
+def test_a_global_step_with_a_design_of_its_own_passes_every_case():
+    # the correct entry's data is a dict: its precomputation and global step go together
+    namespace = dict(vars(ref))
+    for function in ("tet_arap_precompute", "tet_arap_global_step"):
+        exec(CORRECT.solutions[function], namespace)
+    for function in ("tet_arap_precompute", "tet_arap_global_step"):
+        assert check_namespace(function, namespace, 0).fraction == 1.0, function

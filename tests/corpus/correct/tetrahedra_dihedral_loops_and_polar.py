@@ -1,7 +1,8 @@
 NOTEBOOK = "07_tetrahedra"
 DESCRIPTION = (
     "tet_cotangent_laplacian() from the dihedral-angle formula l cot θ / 6 with loops into a dense matrix; "
-    "tet_arap_rotations() by scipy's polar decomposition, the SVD only for reflections; volumes by the triple product"
+    "tet_arap_rotations() by scipy's polar decomposition, the SVD only for reflections; volumes by the triple product; "
+    "the tet ARAP global step as Gᵀ W vec(R) with a sparse (3f, n) gradient operator G built in a loop, data in a dict"
 )
 SOLUTIONS = {
     "tet_volumes": '''import numpy as np
@@ -44,6 +45,46 @@ def tet_arap_rotations(V, U, T):
     X[:, :, 2] *= -1
     R[bad] = X @ Yt
     return R
+''',
+    "tet_arap_precompute": '''import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+
+def tet_arap_precompute(V, T, handles):
+    V, T = np.asarray(V, dtype=float), np.asarray(T)
+    handles = np.asarray(handles, dtype=int).ravel()
+    if handles.size == 0 or len(set(handles.tolist())) != handles.size or handles.min() < 0 or handles.max() >= len(V):
+        raise ValueError("handles must be distinct vertices of the mesh, at least one")
+    rows, cols, vals, vol = [], [], [], []
+    for t, tet in enumerate(T):
+        D = np.column_stack([V[tet[k]] - V[tet[0]] for k in (1, 2, 3)])
+        inverse = np.linalg.inv(D)
+        grads = np.vstack([-inverse.sum(axis=0), inverse])  # row k: the gradient of corner k's hat function
+        vol.append(abs(np.linalg.det(D)) / 6)
+        for k in range(4):
+            for c in range(3):
+                rows.append(3 * t + c)
+                cols.append(tet[k])
+                vals.append(grads[k, c])
+    G = sp.csr_matrix((vals, (rows, cols)), shape=(3 * len(T), len(V)))
+    W = sp.diags(np.repeat(vol, 3))
+    K = (G.T @ W @ G).tocsr()  # the stiffness matrix, -L
+    free = np.array([i for i in range(len(V)) if i not in set(handles.tolist())], dtype=int)
+    return {"G": G, "W": W, "handles": handles, "free": free, "n": len(V),
+            "solve": spla.factorized(K[free][:, free].tocsc()), "K_fh": K[free][:, handles]}
+''',
+    "tet_arap_global_step": '''import numpy as np
+
+
+def tet_arap_global_step(data, R, handle_positions):
+    r = np.asarray(R, dtype=float).transpose(0, 2, 1).reshape(-1, 3)  # row 3t + c holds column c of R_t
+    B = data["G"].T @ (data["W"] @ r)
+    U = np.zeros((data["n"], 3))
+    U[data["handles"]] = handle_positions
+    rhs = B[data["free"]] - data["K_fh"] @ U[data["handles"]]
+    U[data["free"]] = np.column_stack([data["solve"](rhs[:, a]) for a in range(3)])
+    return U
 ''',
 }
 LOSES = set()
