@@ -66,6 +66,7 @@ LECTURE_STAGES: dict[str, tuple[str, tuple[str, ...]]] = {
             "tet_arap_energy",
             "tet_arap_precompute",
             "tet_arap_global_step",
+            "tet_biharmonic_matrix",
         ),
     ),
 }

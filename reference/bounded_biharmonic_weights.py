@@ -7,7 +7,7 @@ import scipy.sparse.linalg as spla
 
 from reference.arap import cotangent_laplacian
 from reference.box_qp import box_qp
-from reference.tetrahedra import as_tet_mesh, tet_cotangent_laplacian, tet_mass_matrix
+from reference.tetrahedra import as_tet_mesh, tet_biharmonic_matrix
 from starter.validation import (
     component_without,
     as_faces,
@@ -72,11 +72,9 @@ def biharmonic_matrix(V, F):
         # an unreferenced vertex has zero mass, so M⁻¹ does not exist
         raise ValueError(f"V has an unreferenced vertex: V[{i}] is used by no cell in F")
     if F.shape[1] == 4:
-        L, M = tet_cotangent_laplacian(V, F), tet_mass_matrix(V, F)
-    else:
-        L, M = cotangent_laplacian(V, F), igl.massmatrix(V, F)
-    L = sp.csc_matrix(L)
-    return sp.csc_matrix(L @ sp.diags(1.0 / M.diagonal()) @ L)
+        return sp.csc_matrix(tet_biharmonic_matrix(V, F))
+    L = sp.csc_matrix(cotangent_laplacian(V, F))
+    return sp.csc_matrix(L @ sp.diags(1.0 / igl.massmatrix(V, F).diagonal()) @ L)
 
 
 def handle_constraints(handles):

@@ -213,6 +213,34 @@ def tet_mass_matrix(V, T):
     return sp.diags(mass).tocsr()
 
 
+def tet_biharmonic_matrix(V, T):
+    """Discrete biharmonic energy matrix ``Q = L M⁻¹ L`` of a tetrahedral mesh.
+
+    ``½ wᵀ Q w`` approximates ``½ ∫ (Δw)²`` over the volume: the matrix of
+    bounded biharmonic weights on tetrahedra (``igl.bbw``) and of
+    ``igl.harmonic(V, T, b, bc, 2)``.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+        Every vertex is used by a tetrahedron.
+    T : (f, 4) array_like of int
+        No tetrahedron may be flat.
+
+    Returns
+    -------
+    Q : (n, n) scipy.sparse.csr_matrix
+        Symmetric positive semi-definite; constants are in its null space.
+    """
+    V, T = as_tet_mesh(V, T)
+    mass = tet_mass_matrix(V, T).diagonal()
+    if (mass == 0).any():
+        # an unreferenced vertex has zero mass, so M⁻¹ does not exist
+        raise ValueError(f"V has an unreferenced vertex: V[{int(np.flatnonzero(mass == 0)[0])}] is in no tetrahedron of T")
+    L = tet_cotangent_laplacian(V, T)
+    return (L @ sp.diags(1.0 / mass) @ L).tocsr()
+
+
 
 def _as_deformed(U, n):
     U = as_float_array(U, "U", ndim=2)

@@ -9,6 +9,7 @@ fixed corner order can hide a mistake.
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
 from grader.checks.base import Case, FunctionChecks, Ref, Step, as_array, as_float, close, verdict
 from grader.checks.shape_matching import random_rotation
@@ -143,6 +144,37 @@ class TetMassMatrixChecks(FunctionChecks):
             verdict("M is diagonal", close(M - np.diag(np.diag(M)), 0.0, TET_RTOL, scale)[0], "off-diagonal entries"),
             verdict("M matches", ok, where + hint),
         ]
+
+
+class TetBiharmonicMatrixChecks(FunctionChecks):
+    function = "tet_biharmonic_matrix"
+    description = "sparse Q = L M⁻¹ L with the tetrahedral L and barycentric M, on both orientations"
+
+    def cases(self, rng):
+        return [Case.call(label, "tet_biharmonic_matrix", V, T) for label, (V, T) in _meshes(rng).items()]
+
+    def verify(self, case, got, expected):
+        from grader.checks.arap import sparse_verdict
+        from grader.contract import reference_function
+
+        V, T = case.args()
+        n = len(V)
+        Q = as_array(got, (n, n), "Q")
+        want = as_array(expected, (n, n), "the reference's Q")
+        ok, where = close(Q, want, TET_RTOL, float(np.abs(want).max()))
+        hint = ""
+        if not ok:
+            L = sp.csr_matrix(reference_function("tet_cotangent_laplacian")(V, T))
+            mass = reference_function("tet_mass_matrix")(V, T).diagonal()
+            for wrong, why in (
+                (L @ L, "M⁻¹ is missing: Q = L M⁻¹ L, not L L"),
+                (L @ sp.diags(mass) @ L, "multiply by M⁻¹, not by M"),
+            ):
+                wrong = wrong.toarray()
+                if close(Q, wrong, TET_RTOL, float(np.abs(wrong).max()))[0]:
+                    hint = f" ({why})"
+                    break
+        return [sparse_verdict(got), verdict("Q matches L M⁻¹ L", ok, where + hint)]
 
 
 class DeformationGradientsChecks(FunctionChecks):

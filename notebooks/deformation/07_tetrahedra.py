@@ -713,9 +713,58 @@ plotting.show_energy(energies[-10:], title="tetrahedral ARAP energy, the last st
 # ## 5 · Bounded biharmonic weights on the tetrahedral hand
 #
 # Stage 04's weights minimize $\tfrac12 w^\top Q w$ with $Q = L M^{-1} L$ and
-# $0 \le w \le 1$; on a volume $L$ and $M$ are the ones you just wrote. Here the
-# box-constrained solve is libigl's `igl.bbw` (the active-set method of stage
-# 04), which assembles the same $L$ and $M$ on tetrahedra; we check that it does.
+# $0 \le w \le 1$. Nothing in that derivation was about triangles: $\tfrac12
+# w^\top Q w$ approximates $\tfrac12 \int (\Delta w)^2$, now over the volume,
+# with the $L$ and $M$ you wrote in §2 (on the hand, $M$ is the barycentric
+# mass: a quarter of every tetrahedron's volume to each of its corners).
+#
+# **Your task.** `tet_biharmonic_matrix(V, T)`, sparse `(n, n)`. Below, the
+# unconstrained biharmonic weights from your $Q$ are checked against libigl's
+# `igl.harmonic(V, T, b, bc, 2)`, and the box-constrained solve is libigl's
+# `igl.bbw` (the active-set method of stage 04), which builds the same $Q$.
+
+# %% deformlab={"solution": "tet_biharmonic_matrix"}
+import numpy as np
+import scipy.sparse as sp
+
+
+def tet_biharmonic_matrix(V, T):
+    """The biharmonic energy matrix of a tetrahedral mesh.
+
+    Parameters
+    ----------
+    V : (n, 3) array_like of float
+    T : (f, 4) array_like of int
+
+    Returns
+    -------
+    Q : (n, n) scipy.sparse matrix
+        ``L M⁻¹ L`` with ``L = tet_cotangent_laplacian(V, T)`` and ``M = tet_mass_matrix(V, T)``.
+    """
+    ### BEGIN SOLUTION
+    L = sp.csr_matrix(tet_cotangent_laplacian(V, T))
+    M = sp.csr_matrix(tet_mass_matrix(V, T))
+    return L @ sp.diags(1.0 / M.diagonal()) @ L  # M is diagonal: its inverse is 1 / its diagonal
+    ### END SOLUTION
+
+# %% deformlab={"tests": "tet_biharmonic_matrix", "points": 2}
+_Q = tet_biharmonic_matrix(V_hand, T_hand)
+assert sp.issparse(_Q), f"Q must be a scipy.sparse matrix, got {type(_Q).__name__}"
+assert _Q.shape == (len(V_hand), len(V_hand)), f"Q must be ({len(V_hand)}, {len(V_hand)}), got {_Q.shape}"
+_Q = sp.csr_matrix(_Q)
+assert abs(_Q - _Q.T).max() <= 1e-9 * abs(_Q).max(), "Q = L M⁻¹ L is symmetric"
+assert np.abs(_Q @ np.ones(len(V_hand))).max() <= 1e-9 * abs(_Q).max(), "constants cost nothing: Q 1 = 0"
+_L = sp.csr_matrix(tet_cotangent_laplacian(V_hand, T_hand))
+_x = rng.normal(size=len(V_hand))
+_energy, _no_mass = _x @ (_Q @ _x), (_L @ _x) @ (_L @ _x)
+assert not np.isclose(_energy, _no_mass, rtol=1e-6), "Q equals L L: M⁻¹ is missing (Q = L M⁻¹ L)"
+_Lx = _L @ _x
+_want = _Lx @ (_Lx / sp.csr_matrix(tet_mass_matrix(V_hand, T_hand)).diagonal())
+assert np.isclose(_energy, _want, rtol=1e-9), (
+    f"xᵀQx must be (Lx)ᵀ M⁻¹ (Lx) = {_want:.8g}, got {_energy:.8g} (divide by the masses, do not multiply)"
+)
+
+# %% [markdown]
 # The hand has six bones (palm, four fingers, thumb), each a row of vertices
 # inside it; each bone is a handle.
 #
@@ -736,8 +785,14 @@ plotting.show_energy(energies[-10:], title="tetrahedral ARAP energy, the last st
 bones = load_handles("hand_tet")["bones"]
 b = np.concatenate(bones)
 bc = np.repeat(np.eye(len(bones)), [len(bone) for bone in bones], axis=0)
-assert abs(igl.cotmatrix(V_hand, T_hand) - tet_cotangent_laplacian(V_hand, T_hand)).max() < 1e-10
-assert abs(igl.massmatrix(V_hand, T_hand) - tet_mass_matrix(V_hand, T_hand)).max() < 1e-14
+# the unconstrained biharmonic weights from your Q are libigl's biharmonic coordinates
+Q = sp.csr_matrix(tet_biharmonic_matrix(V_hand, T_hand))
+free = np.setdiff1d(np.arange(len(V_hand)), b)
+W_unconstrained = np.zeros((len(V_hand), len(bones)))
+W_unconstrained[b] = bc
+W_unconstrained[free] = spla.splu(Q[free][:, free].tocsc()).solve(-(Q[free][:, b] @ bc))
+assert np.abs(W_unconstrained - igl.harmonic(V_hand, T_hand, b, bc, 2)).max() < 1e-8
+print(f"unconstrained biharmonic weights on the hand range over [{W_unconstrained.min():.3f}, {W_unconstrained.max():.3f}]")
 W_bbw = igl.bbw(V_hand, T_hand, b, bc)
 W_bbw /= W_bbw.sum(axis=1, keepdims=True)
 # inverse-distance weights to the nearest vertex of each bone, power 2

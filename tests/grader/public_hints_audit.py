@@ -81,6 +81,7 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "solve_energy_before_global": (("rotations the global step used",),),
     "solve_keeps_u0_handles": (("before the first local step",),),
     "translation_between_centroids": (("q̄ - R p̄",),),
+    "tet_biharmonic_without_mass": (("M⁻¹ is missing",),),
     "tet_energy_unweighted": (("per unit volume",),),
     "tet_global_step_rotations_transposed": (("not its transpose",),),
     "tet_global_step_signed_volumes": (("weight B by |vol_t|",),),

@@ -92,6 +92,16 @@ def energy_unweighted(V, U, T, R):
     return float(np.sum((J - R) ** 2))
 
 
+def biharmonic_without_mass(V, T):
+    L = ref.tet_cotangent_laplacian(V, T)
+    return L @ L
+
+
+def biharmonic_times_mass(V, T):
+    L = ref.tet_cotangent_laplacian(V, T)
+    return L @ ref.tet_mass_matrix(V, T) @ L
+
+
 def global_step_transposed(data, R, handle_positions):
     return ref.tet_arap_global_step(data, np.transpose(R, (0, 2, 1)), handle_positions)
 
@@ -134,6 +144,8 @@ def precompute_forgets_the_first_handle(V, T, handles):
         ("tet_arap_rotations", rotations_transposed, "R_t is transposed"),
         ("tet_arap_energy", energy_signed_volumes, "use |vol|"),
         ("tet_arap_energy", energy_unweighted, "weighted by its volume"),
+        ("tet_biharmonic_matrix", biharmonic_without_mass, "M⁻¹ is missing"),
+        ("tet_biharmonic_matrix", biharmonic_times_mass, "not by M"),
         ("tet_arap_global_step", global_step_transposed, "not its transpose"),
         ("tet_arap_global_step", global_step_signed_volumes, "weight B by |vol_t|"),
         ("tet_arap_global_step", global_step_without_handle_columns, "the handles' columns belong on the right-hand side"),
@@ -155,7 +167,7 @@ def test_every_tet_function_sees_both_orientations_and_more_than_one_mesh():
     from grader.checks import seeded_cases
 
     for function in ("tet_volumes", "tet_cotangent_laplacian", "tet_mass_matrix", "deformation_gradients",
-                     "tet_arap_rotations", "tet_arap_energy", "tet_arap_precompute", "tet_arap_global_step"):
+                     "tet_arap_rotations", "tet_arap_energy", "tet_arap_precompute", "tet_arap_global_step", "tet_biharmonic_matrix"):
         cases, _ = seeded_cases(function, 0)
         # the mesh is in the first step's arguments (the precomputation's, for the global step)
         Ts = [next(a for a in c.args(0) if np.ndim(a) == 2 and np.shape(a)[1] == 4 and a.dtype.kind == "i") for c in cases]

@@ -79,6 +79,7 @@ def test_a_common_mistake_gets_a_hint_that_names_it(notebook, function, source, 
         ("fast_step_rotations_transposed", "fast_global_step", ("transposed rotations",)),
         ("global_step_soft_handles", "arap_global_step", ("must equal handle_positions exactly",)),
         ("tet_mass_signed_volumes", "tet_mass_matrix", ("use |vol|",)),
+        ("tet_biharmonic_without_mass", "tet_biharmonic_matrix", ("M⁻¹ is missing",)),
         ("tet_global_step_rotations_transposed", "tet_arap_global_step", ("not its transpose",)),
         # the bug is in the precomputation, whose data the global step's tests use
         ("tet_global_step_signed_volumes", "tet_arap_global_step", ("weight B by |vol_t|",)),
