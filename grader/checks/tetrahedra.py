@@ -290,8 +290,9 @@ def _arap_scenes(rng: np.random.Generator):
     """Tet meshes with handles (in random order), their targets and the rotations of a realistic local step.
 
     Returns ``{label: (V, T, handles, P, R)}``: the bar's two ends, the second
-    twisted; the hand's wrist and fingertips moved (a bend with noise); two
-    tetrahedra of opposite orientations held at one vertex each.
+    twisted (also on the bar stretched 3x); the hand's wrist and fingertips
+    moved (a bend with noise); two tetrahedra of opposite orientations held at
+    one vertex each.
     """
     from grader.contract import reference_function
 
@@ -300,6 +301,8 @@ def _arap_scenes(rng: np.random.Generator):
         ("the volumetric bar, half the tetrahedra negatively oriented, ends held and twisted",
          _shuffled("bar_tet", rng, flip=True), 0),
         ("the hand (jittered, shuffled), wrist and fingertips moved", _shuffled("hand_tet", rng), 1),
+        ("the volumetric bar stretched 3x along y (anisotropic), ends held and twisted",
+         (lambda V, T: (V * [1.0, 3.0, 1.0], T))(*_shuffled("bar_tet", rng, jitter=0.05)), 0),
     ):
         low, high = V[:, axis].min(), V[:, axis].max()
         step = 0.05 * (high - low)
