@@ -282,10 +282,8 @@ assert abs(_M - igl.massmatrix(V_hand, T_hand)).max() < 1e-14, "M differs from i
 # of the smallest singular value: stage 02's sign correction, now needed for
 # every **inverted** tetrahedron ($\det J_t < 0$).
 #
-# **Global step.** For fixed $R$ the energy is quadratic in $U$ and its matrix is
-# $\sum_t |\operatorname{vol}_t| G_t^\top G_t = -L$, your tetrahedral Laplacian: the
-# free vertices solve $-L_{ff} U_f = B_f + L_{fh} U_h$ with
-# $B_i = \sum_{t \ni i} |\operatorname{vol}_t|\, R_t \nabla\varphi_i$. Neither
+# **Global step.** For fixed $R$ the energy is quadratic in $U$: one sparse
+# solve with your tetrahedral Laplacian, derived below. As in stage 03, neither
 # step can increase $E$.
 #
 # **Your tasks.** `deformation_gradients(V, U, T)` `(f, 3, 3)`;
