@@ -678,8 +678,11 @@ def width(P):
 
 
 rest_width = width(V_bar[middle])
+# within a step the handles stay put, so neither the local nor the global step may raise the energy
+rises = int(np.sum(np.diff(energies.reshape(6, 10), axis=1) > 1e-12 * energies.max()))
 print(f"tetrahedral ARAP: {len(energies)} iterations in {seconds:.2f} s; "
-      f"last step's energy {energies[-10]:.4f} -> {energies[-1]:.4f} (never up within a step)")
+      f"last step's energy {energies[-10]:.4f} -> {energies[-1]:.4f}; "
+      f"{rises} rise(s) within a step (your global step or rotations are wrong if this is not 0)")
 middle_skin = index[middle][index[middle] >= 0]  # the middle cross-section's vertices on the skin
 for name, U, F, ring in [("surface ARAP", U_skin, F_skin, middle_skin), ("tetrahedral ARAP", U_tet, F_bar, middle)]:
     print(f"{name:17s} volume {100 * (enclosed_volume(U, F) / 4.0 - 1):+6.1f} %, "
