@@ -195,7 +195,7 @@ def _bbox_diagonal(V: np.ndarray) -> float:
     return float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
 
 
-def _handle_verdict(U: np.ndarray, handles: np.ndarray, positions: np.ndarray) -> Verdict:
+def handle_verdict(U: np.ndarray, handles: np.ndarray, positions: np.ndarray) -> Verdict:
     err = np.abs(U[handles] - positions).max(axis=1)
     worst = int(np.argmax(err))
     return verdict(
@@ -211,7 +211,7 @@ def sparse_verdict(got) -> Verdict:
     return verdict("a scipy.sparse matrix", sp.issparse(got), f"returned a dense {type(got).__name__}; the contract asks for a scipy.sparse matrix")
 
 
-def _positions_verdict(name: str, U: np.ndarray, want: np.ndarray, V: np.ndarray, rtol: float) -> Verdict:
+def positions_verdict(name: str, U: np.ndarray, want: np.ndarray, V: np.ndarray, rtol: float) -> Verdict:
     ok, where = close(U, want, rtol, scale=_bbox_diagonal(V))
     return verdict(name, ok, f"{where} (vertex, coordinate)")
 
@@ -353,7 +353,7 @@ def _global_step_verdicts(U_got, U_ref, V, F, R, handles, positions) -> list[Ver
     C = np.asarray(reference("cotangent_weights")(V, F))
     energy = reference("arap_energy")
     return [
-        _handle_verdict(U, handles, positions),
+        handle_verdict(U, handles, positions),
         energy_verdict(
             "minimal energy for the given rotations",
             float(energy(V, U, F, C, R)),
@@ -362,7 +362,7 @@ def _global_step_verdicts(U_got, U_ref, V, F, R, handles, positions) -> list[Ver
             DIRECT_RTOL,
             at_most=True,
         ),
-        _positions_verdict("U is the unique minimizer", U, U_ref, V, SOLVE_RTOL),
+        positions_verdict("U is the unique minimizer", U, U_ref, V, SOLVE_RTOL),
     ]
 
 
@@ -508,10 +508,10 @@ class ArapSolveChecks(FunctionChecks):
 
         verdicts = [
             verdict("len(energies) == iterations", len(energies) == iterations, f"{len(energies)} energies for {iterations} iterations"),
-            _handle_verdict(U, handles, P),
+            handle_verdict(U, handles, P),
         ]
         verdicts += local_global_energy_verdicts(energies, energies_ref, iterations, float(energy(V, U, F, C, R_last)), fresh, scale, "U")
-        verdicts.append(_positions_verdict("U matches the reference's from the same start", U, U_ref, V, ITERATE_RTOL))
+        verdicts.append(positions_verdict("U matches the reference's from the same start", U, U_ref, V, ITERATE_RTOL))
         return verdicts
 
 

@@ -329,23 +329,17 @@ def _global_step_verdicts(got, expected, V, T, handles, P, R) -> list:
     """Handles exact, energy at the reference's minimum for ``R``, and the same minimizer; hints for common slips."""
     import types
 
-    from grader.checks.arap import DIRECT_RTOL, SOLVE_RTOL, energy_verdict
+    from grader.checks.arap import DIRECT_RTOL, SOLVE_RTOL, energy_verdict, handle_verdict, positions_verdict
     from grader.contract import reference_function
 
-    n = len(V)
-    U = as_array(got, (n, 3), "U")
-    want = as_array(expected, (n, 3), "the reference's U")
+    U = as_array(got, (len(V), 3), "U")
+    want = as_array(expected, (len(V), 3), "the reference's U")
     energy = reference_function("tet_arap_energy")
     J = reference_function("deformation_gradients")(V, want, T)
     volumes = np.abs(reference_function("tet_volumes")(V, T))
-    scale = float(volumes @ (np.sum(J**2, axis=(1, 2)) + 3.0))
-    size = float(np.linalg.norm(np.ptp(V, axis=0)))
-    err = np.abs(U[handles] - P).max(axis=1)
-    worst = int(np.argmax(err))
-    handles_met = bool(err[worst] <= 1e-12 * max(1.0, float(np.abs(P).max())))
-    same, where = close(U, want, SOLVE_RTOL, size)
-    hint = ""
-    if not same:
+    scale = float(volumes @ (np.sum(J**2, axis=(1, 2)) + 3.0))  # bounds the energy's terms, for roundoff
+    same = positions_verdict("U is the unique minimizer", U, want, V, SOLVE_RTOL)
+    if not same.passed:
         precompute, step = reference_function("tet_arap_precompute"), reference_function("tet_arap_global_step")
         data = precompute(V, T, handles)
         signed = types.SimpleNamespace(**{**vars(data), "volumes": reference_function("tet_volumes")(V, T)})
@@ -355,15 +349,14 @@ def _global_step_verdicts(got, expected, V, T, handles, P, R) -> list:
             (lambda: step(signed, R, P), "weight B by |vol_t|: a negatively oriented tetrahedron pulls the wrong way with the signed volume"),
             (lambda: step(no_columns, R, P), "the handles' columns belong on the right-hand side: (-L)_ff U_f = B_f + L_fh U_h"),
         ):
-            if close(U, variant(), SOLVE_RTOL, size)[0]:
-                hint = f" ({why})"
+            if positions_verdict("", U, variant(), V, SOLVE_RTOL).passed:
+                same.detail += f" ({why})"
                 break
     return [
-        verdict("handles met exactly", handles_met,
-                f"U[{handles[worst]}] is {U[handles[worst]].tolist()}, its handle position is {P[worst].tolist()}"),
+        handle_verdict(U, handles, P),
         energy_verdict("minimal energy for the given rotations", float(energy(V, U, T, R)),
                        float(energy(V, want, T, R)), scale, DIRECT_RTOL, at_most=True),
-        verdict("U is the unique minimizer", same, f"{where} (vertex, coordinate){hint}"),
+        same,
     ]
 
 
