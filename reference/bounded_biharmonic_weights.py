@@ -16,6 +16,7 @@ from starter.validation import (
     as_points,
     as_vertices,
     check_no_degenerate_triangles,
+    unreferenced_vertex,
 )
 
 
@@ -65,14 +66,12 @@ def biharmonic_matrix(V, F):
         Symmetric positive semi-definite; constants are in its null space.
     """
     V, F = as_cells(V, F)
-    used = np.zeros(len(V), dtype=bool)
-    used[F.ravel()] = True
-    if not used.all():
-        i = int(np.flatnonzero(~used)[0])
-        # an unreferenced vertex has zero mass, so M⁻¹ does not exist
-        raise ValueError(f"V has an unreferenced vertex: V[{i}] is used by no cell in F")
     if F.shape[1] == 4:
         return sp.csc_matrix(tet_biharmonic_matrix(V, F))
+    i = unreferenced_vertex(F, len(V))
+    if i is not None:
+        # an unreferenced vertex has zero mass, so M⁻¹ does not exist
+        raise ValueError(f"V has an unreferenced vertex: V[{i}] is used by no cell in F")
     L = sp.csc_matrix(cotangent_laplacian(V, F))
     return sp.csc_matrix(L @ sp.diags(1.0 / igl.massmatrix(V, F).diagonal()) @ L)
 

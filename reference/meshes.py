@@ -3,7 +3,7 @@
 import numpy as np
 import scipy.sparse as sp
 
-from starter.validation import as_faces, as_vertices
+from starter.validation import as_faces, as_vertices, unreferenced_vertex
 
 
 def edges(F):
@@ -119,10 +119,8 @@ def genus(V, F):
     """
     V = as_vertices(V)
     F = as_faces(F, len(V))
-    used = np.zeros(len(V), dtype=bool)
-    used[F.ravel()] = True
-    if not used.all():
-        i = int(np.flatnonzero(~used)[0])
+    i = unreferenced_vertex(F, len(V))
+    if i is not None:
         raise ValueError(f"V has an unreferenced vertex: V[{i}] is used by no triangle in F")
     chi = euler_characteristic(V, F)
     b = boundary_loop_count(F)

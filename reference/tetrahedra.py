@@ -28,7 +28,14 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from reference.sign_correction import optimal_rotation
-from starter.validation import as_float_array, as_handle_positions, as_handles, as_vertices, component_without
+from starter.validation import (
+    as_float_array,
+    as_handle_positions,
+    as_handles,
+    as_vertices,
+    component_without,
+    unreferenced_vertex,
+)
 
 # The six edges of a tetrahedron in libigl's order (``igl.cotmatrix_entries``).
 TET_EDGES = np.array([[1, 2], [2, 0], [0, 1], [3, 0], [3, 1], [3, 2]])
@@ -233,12 +240,12 @@ def tet_biharmonic_matrix(V, T):
         Symmetric positive semi-definite; constants are in its null space.
     """
     V, T = as_tet_mesh(V, T)
-    mass = tet_mass_matrix(V, T).diagonal()
-    if (mass == 0).any():
+    i = unreferenced_vertex(T, len(V))
+    if i is not None:
         # an unreferenced vertex has zero mass, so M⁻¹ does not exist
-        raise ValueError(f"V has an unreferenced vertex: V[{int(np.flatnonzero(mass == 0)[0])}] is in no tetrahedron of T")
+        raise ValueError(f"V has an unreferenced vertex: V[{i}] is in no tetrahedron of T")
     L = tet_cotangent_laplacian(V, T)
-    return (L @ sp.diags(1.0 / mass) @ L).tocsr()
+    return (L @ sp.diags(1.0 / tet_mass_matrix(V, T).diagonal()) @ L).tocsr()
 
 
 

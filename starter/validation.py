@@ -188,6 +188,25 @@ def as_handles(handles, n_vertices: int, name: str = "handles") -> np.ndarray:
     return _distinct_indices(handles, n_vertices, name, "vertex", "at least one vertex must be constrained", "vertices")
 
 
+def unreferenced_vertex(F: np.ndarray, n_vertices: int) -> int | None:
+    """The smallest vertex index that no cell of ``F`` uses, or None.
+
+    Parameters
+    ----------
+    F : (f, k) numpy.ndarray of int
+        Cells (triangles ``k = 3``, tetrahedra ``k = 4``), already checked.
+    n_vertices : int
+
+    Returns
+    -------
+    int or None
+        An unused vertex has no area or volume around it (zero mass, no Euler characteristic share).
+    """
+    used = np.zeros(n_vertices, dtype=bool)
+    used[F.ravel()] = True
+    return None if used.all() else int(np.flatnonzero(~used)[0])
+
+
 def component_without(F: np.ndarray, n_vertices: int, constrained: np.ndarray) -> int | None:
     """A vertex of a connected component of the mesh with no vertex in ``constrained``, or None.
 

@@ -336,13 +336,13 @@ def _global_step_verdicts(got, expected, V, T, handles, P, R) -> list:
     want = as_array(expected, (len(V), 3), "the reference's U")
     energy = reference_function("tet_arap_energy")
     J = reference_function("deformation_gradients")(V, want, T)
-    volumes = np.abs(reference_function("tet_volumes")(V, T))
-    scale = float(volumes @ (np.sum(J**2, axis=(1, 2)) + 3.0))  # bounds the energy's terms, for roundoff
+    signed_volumes = reference_function("tet_volumes")(V, T)
+    scale = float(np.abs(signed_volumes) @ (np.sum(J**2, axis=(1, 2)) + 3.0))  # bounds the energy's terms, for roundoff
     same = positions_verdict("U is the unique minimizer", U, want, V, SOLVE_RTOL)
     if not same.passed:
         precompute, step = reference_function("tet_arap_precompute"), reference_function("tet_arap_global_step")
         data = precompute(V, T, handles)
-        signed = types.SimpleNamespace(**{**vars(data), "volumes": reference_function("tet_volumes")(V, T)})
+        signed = types.SimpleNamespace(**{**vars(data), "volumes": signed_volumes})
         no_columns = types.SimpleNamespace(**{**vars(data), "L_free_handles": 0.0 * data.L_free_handles})
         for variant, why in (
             (lambda: step(data, np.transpose(R, (0, 2, 1)), P), "B takes R_t ∇φ_i with R_t itself, not its transpose"),
