@@ -9,14 +9,17 @@ from starter.validation import as_float_array
 
 # ADMM's penalty ρ relative to √(λ_min λ_max) of H, its over-relaxation and
 # its number of steps (see _admm_active_sets). Measured on the BBW benchmark
-# family, CPU time relative to igl.bbw, worst / geometric mean over the nine:
-# 0.02, 1.6, 60 steps: 0.76 / 0.44; 0.01: 0.82 / 0.44; 40 steps: 0.76 / 0.45;
-# 0.05 and 40 steps: 1.05 / 0.47; a fixed ρ (5e-5 of H's mean diagonal): 0.94
-# / 0.49, the tetrahedra worst. The previous start (the unconstrained
-# minimizer's out-of-box regions shrunk by 6 stencil rings): 1.12 / 0.65.
+# family, CPU time relative to igl.bbw, worst / geometric mean of the nine:
+# ρ factor 0.02, relaxation 1.6 and 20, 30, 40, 60 steps: 0.88 / 0.47,
+# 0.93 / 0.47, 0.79 / 0.44, 0.85 / 0.42 (the tetrahedral hand gains from
+# fewer steps, the character with bones from more). Earlier runs, when the
+# free blocks were still sorted by SciPy: factor 0.01 and 60 steps 0.82 /
+# 0.44; 0.05 and 40 steps 1.05 / 0.47; a fixed ρ (5e-5 of H's mean diagonal)
+# 0.94 / 0.49; the previous start (the unconstrained minimizer's out-of-box
+# regions shrunk by 6 stencil rings) 1.12 / 0.65.
 ADMM_PENALTY = 0.02
 ADMM_RELAXATION = 1.6
-ADMM_STEPS = 60
+ADMM_STEPS = 40
 
 # SymmetricMode with diagonal pivots: H is symmetric positive definite, and
 # SuperLU factors it far faster this way than with partial pivoting
@@ -122,10 +125,16 @@ def _solve(H, G, tol):
         # than SuperLU: go dense when that beats a sparse factorization
         if float(grown.sum()) ** 3 >= 100 * sparse_flops:
             at_lower, at_upper = _admm_active_sets(H, G, X_unconstrained, lu, scale)
-            return np.column_stack([
-                _sparse_active_set(H, G[:, j], at_lower[:, j], at_upper[:, j], lu.perm_c, tol * scale)
-                for j in range(m)
-            ])
+            # every free block keeps lu's fill-reducing order (lu.perm_c[i] is
+            # the position of variable i): a good order for the block too, so
+            # SuperLU skips its own ordering; H is permuted once
+            order = np.argsort(lu.perm_c)
+            H_ordered = H[order][:, order].tocsc()
+            H_ordered.sort_indices()
+            X = np.empty((n, m))
+            for j in range(m):
+                X[order, j] = _sparse_active_set(H_ordered, G[order, j], at_lower[order, j], at_upper[order, j], tol * scale)
+            return X
         # Order C last, the rest in lu's fill-reducing order (lu.perm_c[i] is
         # the position of variable i): the trailing block of the factor is
         # then the Schur complement K of H onto C.
@@ -252,26 +261,40 @@ def _dense_active_set(K, K_inverse, x0, lower, upper):
     )
 
 
-def _sparse_active_set(H, g, lower, upper, position, tol_kkt):
+def _principal_submatrix(A, columns, keep):
+    """``A[keep][:, keep]`` for ``A`` CSC with sorted indices, its indices sorted too (no sort needed).
+
+    ``columns`` ``(nnz,)`` is the column of each stored entry of ``A``;
+    ``keep`` is ``(n,)`` bool.
+    """
+    entries = keep[A.indices] & keep[columns]
+    renumber = np.cumsum(keep) - 1
+    k = int(renumber[-1]) + 1
+    indptr = np.zeros(k + 1, dtype=np.int64)
+    np.cumsum(np.bincount(renumber[columns[entries]], minlength=k), out=indptr[1:])
+    return sp.csc_matrix((A.data[entries], renumber[A.indices[entries]], indptr), shape=(k, k))
+
+
+def _sparse_active_set(H, g, lower, upper, tol_kkt):
     """Minimize ``½ xᵀ H x - gᵀ x`` over ``0 ≤ x ≤ 1`` to KKT residual ``tol_kkt``; ``H`` sparse SPD.
 
-    ``lower`` and ``upper`` are ``(n,)`` bool, the initial active sets;
-    ``position[i]`` is the place of variable ``i`` in a fill-reducing order of
-    ``H``, which the free block of every step keeps (it is a good order for
-    the block too, and SuperLU skips its own ordering).
+    ``H`` is CSC with sorted indices, its variables in a fill-reducing order
+    that every free block keeps; ``lower`` and ``upper`` are ``(n,)`` bool,
+    the initial active sets.
 
     Returns ``x`` ``(n,)``, in the box exactly.
     """
     n = len(g)
     max_iter = 100 + 5 * n
+    columns = np.repeat(np.arange(n), np.diff(H.indptr))
     seen, murty = set(), False
     for _ in range(max_iter):
-        free = np.flatnonzero(~(lower | upper))
-        free = free[np.argsort(position[free], kind="stable")]
+        free = ~(lower | upper)
         x = upper.astype(np.float64)
-        if free.size:
-            rhs = g[free] - H[free][:, np.flatnonzero(upper)] @ np.ones(int(upper.sum()))
-            x[free] = _factor(H[free][:, free].tocsc(), "NATURAL").solve(rhs)
+        if free.any():
+            # H[free, upper] 1 is (H 1_upper)[free]
+            rhs = (g - H @ x)[free]
+            x[free] = _factor(_principal_submatrix(H, columns, free), "NATURAL").solve(rhs)
         gradient = H @ x - g
         below = ~(lower | upper) & (x < 0)
         above = ~(lower | upper) & (x > 1)

@@ -144,7 +144,13 @@ def barycentric_gradients(V, T):
         four sum to zero. Row ``k ≥ 1`` is row ``k - 1`` of
         ``[v1 - v0, v2 - v0, v3 - v0]⁻¹``.
     """
-    V, T = as_tet_mesh(V, T)
+    return _barycentric_gradients(*as_tet_mesh(V, T))
+
+
+# Each public function below checks its input with as_tet_mesh once and hands
+# it to a private twin that trusts it, so that chains of them (the biharmonic
+# matrix, deformation gradients, ARAP's precomputation) check it only once.
+def _barycentric_gradients(V, T):
     D = np.stack([V[T[:, k]] - V[T[:, 0]] for k in (1, 2, 3)], axis=2)
     B = np.linalg.inv(D)
     return np.concatenate([-B.sum(axis=1, keepdims=True), B], axis=1)
@@ -167,8 +173,11 @@ def tet_cotangent_weights(V, T):
         edge's length and the cotangent of its dihedral angle); negative for
         an obtuse dihedral angle. Equals ``igl.cotmatrix_entries``.
     """
-    V, T = as_tet_mesh(V, T)
-    G = barycentric_gradients(V, T)
+    return _tet_cotangent_weights(*as_tet_mesh(V, T))
+
+
+def _tet_cotangent_weights(V, T):
+    G = _barycentric_gradients(V, T)
     volume = np.abs(tet_volumes_unchecked(V, T))
     return -volume[:, None] * np.einsum("tea,tea->te", G[:, TET_EDGES[:, 0]], G[:, TET_EDGES[:, 1]])
 
@@ -189,8 +198,11 @@ def tet_cotangent_laplacian(V, T):
         tetrahedra's edges ``(i, j)``, rows summing to zero; ``-L`` is the
         stiffness matrix ``∫ ∇φ_i · ∇φ_j``, so ``-uᵀ L u = ∫ ‖∇u‖²``.
     """
-    V, T = as_tet_mesh(V, T)
-    C = tet_cotangent_weights(V, T)
+    return _tet_cotangent_laplacian(*as_tet_mesh(V, T))
+
+
+def _tet_cotangent_laplacian(V, T):
+    C = _tet_cotangent_weights(V, T)
     n = len(V)
     i, j = T[:, TET_EDGES[:, 0]].ravel(), T[:, TET_EDGES[:, 1]].ravel()
     W = sp.csr_matrix((np.concatenate([C.ravel(), C.ravel()]), (np.concatenate([i, j]), np.concatenate([j, i]))),
@@ -214,7 +226,10 @@ def tet_mass_matrix(V, T):
         around vertex ``i``; its entries sum to the mesh's volume. Equals
         ``igl.massmatrix`` (barycentric, libigl's default on tetrahedra).
     """
-    V, T = as_tet_mesh(V, T)
+    return _tet_mass_matrix(*as_tet_mesh(V, T))
+
+
+def _tet_mass_matrix(V, T):
     quarter = np.abs(tet_volumes_unchecked(V, T)) / 4.0
     mass = np.bincount(T.ravel(), weights=np.repeat(quarter, 4), minlength=len(V))
     return sp.diags(mass).tocsr()
@@ -244,8 +259,8 @@ def tet_biharmonic_matrix(V, T):
     if i is not None:
         # an unreferenced vertex has zero mass, so M⁻¹ does not exist
         raise ValueError(f"V has an unreferenced vertex: V[{i}] is in no tetrahedron of T")
-    L = tet_cotangent_laplacian(V, T)
-    return (L @ sp.diags(1.0 / tet_mass_matrix(V, T).diagonal()) @ L).tocsr()
+    L = _tet_cotangent_laplacian(V, T)
+    return (L @ sp.diags(1.0 / _tet_mass_matrix(V, T).diagonal()) @ L).tocsr()
 
 
 
@@ -276,7 +291,7 @@ def deformation_gradients(V, U, T):
     """
     V, T = as_tet_mesh(V, T)
     U = _as_deformed(U, len(V))
-    return np.einsum("tka,tkb->tab", U[T], barycentric_gradients(V, T))
+    return np.einsum("tka,tkb->tab", U[T], _barycentric_gradients(V, T))
 
 
 def tet_arap_rotations(V, U, T):
@@ -354,7 +369,7 @@ def tet_arap_precompute(V, T, handles):
             f"handles must include a vertex of every connected component of the mesh: "
             f"the component of vertex {vertex} has none, so its position is undetermined"
         )
-    L = tet_cotangent_laplacian(V, T)
+    L = _tet_cotangent_laplacian(V, T)
     free = np.setdiff1d(np.arange(n), handles)
     L_free = L[free]
     solver = None

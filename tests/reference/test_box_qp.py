@@ -188,3 +188,19 @@ def test_the_admm_start_saves_active_set_steps_on_the_tetrahedral_hand():
             assert kkt_residual(H, g, x) <= 1e-9
     # both meet the KKT tolerance; H's conditioning turns that into ~1e-8 in x
     np.testing.assert_allclose(X_admm, X_plain, atol=1e-7)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seeds, st.integers(1, 60), st.floats(0.0, 1.0))
+def test_principal_submatrices_equal_scipy_indexing_and_come_sorted(seed, n, keep_fraction):
+    rng = np.random.default_rng(seed)
+    A = sp.random(n, n, density=0.2, random_state=rng, format="csc")
+    A = (A + A.T + sp.eye(n)).tocsc()
+    A.sort_indices()
+    keep = rng.random(n) < keep_fraction
+    keep[rng.integers(n)] = True
+    columns = np.repeat(np.arange(n), np.diff(A.indptr))
+    block = box_qp_module._principal_submatrix(A, columns, keep)
+    np.testing.assert_array_equal(block.toarray(), A.toarray()[np.ix_(keep, keep)])
+    for start, stop in zip(block.indptr[:-1], block.indptr[1:]):
+        assert (np.diff(block.indices[start:stop]) > 0).all()
