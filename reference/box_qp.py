@@ -182,9 +182,12 @@ def _admm_active_sets(H, G, X_unconstrained, lu, scale):
     """
     n = H.shape[0]
     # √(λ_min λ_max) is ADMM's optimal penalty on strongly convex quadratics
-    # (Ghadimi et al. 2015), and it adapts ρ to 2D and to tetrahedra alike;
-    # only the bounds matter here, and a smaller ρ finds them sooner (see
-    # ADMM_PENALTY). A few inverse iterations estimate λ_min.
+    # (Ghadimi et al. 2015), and scaling by it suits triangles and tetrahedra
+    # alike. Only the bounds matter here, and a fraction of it finds them in
+    # fewer steps: on the family's square after 50 unrelaxed steps, ρ ≈ 0.6
+    # √(λ_min λ_max) left 42 active-set factorizations, ρ ≈ 0.06 √(λ_min
+    # λ_max) 26 (and see ADMM_PENALTY).
+    # A few inverse iterations estimate λ_min.
     v = np.linspace(1.0, 2.0, n)
     for _ in range(6):
         v = lu.solve(v)
@@ -296,8 +299,8 @@ def _sparse_active_set(H, g, lower, upper, tol_kkt):
             rhs = (g - H @ x)[free]
             x[free] = _factor(_principal_submatrix(H, columns, free), "NATURAL").solve(rhs)
         gradient = H @ x - g
-        below = ~(lower | upper) & (x < 0)
-        above = ~(lower | upper) & (x > 1)
+        below = free & (x < 0)
+        above = free & (x > 1)
         release = (lower & (gradient < 0)) | (upper & (gradient > 0))
         if not (below | above | release).any():
             return x  # the exact minimizer
