@@ -6,7 +6,9 @@ import scipy.sparse as sp
 from hypothesis import given, settings, strategies as st
 
 import reference.box_qp as box_qp_module
+from reference.bounded_biharmonic_weights import biharmonic_matrix, handle_constraints
 from reference.box_qp import box_qp
+from starter.meshes import load_handles, load_mesh
 
 seeds = st.integers(0, 2**32 - 1)
 
@@ -147,41 +149,32 @@ def test_bad_input_raises_value_error_naming_the_problem(H, G, tol, message):
         box_qp(H, G, tol=tol)
 
 
-def test_the_admm_start_saves_active_set_steps_on_the_tetrahedral_hand():
+def test_the_admm_start_saves_active_set_steps_on_the_tetrahedral_hand(monkeypatch):
     """The sparse branch starts from ADMM's bounds: fewer free-block factorizations than from the unconstrained minimizer's."""
-    from reference.bounded_biharmonic_weights import biharmonic_matrix, handle_constraints
-    from starter.meshes import load_handles, load_mesh
-
     V, T = load_mesh("hand_tet")
     b, bc = handle_constraints(list(load_handles("hand_tet")["bones"]))
     free = np.setdiff1d(np.arange(len(V)), b)
     Q = sp.csr_matrix(biharmonic_matrix(V, T))
     H, G = Q[free][:, free].tocsc(), -(Q[free][:, b] @ bc)
+    steps = []
+    factor = box_qp_module._factor
+
+    def counting_factor(A, permc_spec):
+        steps.append(permc_spec == "NATURAL")  # the free blocks, in H's order
+        return factor(A, permc_spec)
+
+    monkeypatch.setattr(box_qp_module, "_factor", counting_factor)
 
     def solve_counting_steps():
-        steps = []
-        original = box_qp_module._factor
-
-        def spy(A, permc_spec):
-            steps.append(permc_spec == "NATURAL")  # the free blocks, in H's order
-            return original(A, permc_spec)
-
-        box_qp_module._factor = spy
-        try:
-            with sparse_branch_calls() as calls:
-                X = box_qp(H, G)
-        finally:
-            box_qp_module._factor = original
+        steps.clear()
+        with sparse_branch_calls() as calls:
+            X = box_qp(H, G)
         assert len(calls) == G.shape[1]
         return X, sum(steps)
 
     X_admm, steps_admm = solve_counting_steps()
-    original = box_qp_module._admm_active_sets
-    box_qp_module._admm_active_sets = lambda H, G, X0, lu, scale: (X0 < 0, X0 > 1)
-    try:
-        X_plain, steps_plain = solve_counting_steps()
-    finally:
-        box_qp_module._admm_active_sets = original
+    monkeypatch.setattr(box_qp_module, "_admm_active_sets", lambda H, G, X0, lu, scale: (X0 < 0, X0 > 1))
+    X_plain, steps_plain = solve_counting_steps()
     assert steps_admm < 0.8 * steps_plain
     for X in (X_admm, X_plain):
         for x, g in zip(X.T, G.T):
