@@ -8,15 +8,11 @@ import scipy.sparse.linalg as spla
 from starter.validation import as_float_array
 
 # ADMM's penalty ρ relative to √(λ_min λ_max) of H, its over-relaxation and
-# its number of steps (see _admm_active_sets). Measured on the BBW benchmark
-# family, CPU time relative to igl.bbw, worst / geometric mean of the nine:
-# ρ factor 0.02, relaxation 1.6 and 20, 30, 40, 60 steps: 0.88 / 0.47,
-# 0.93 / 0.47, 0.79 / 0.44, 0.85 / 0.42 (the tetrahedral hand gains from
-# fewer steps, the character with bones from more). Earlier runs, when the
-# free blocks were still sorted by SciPy: factor 0.01 and 60 steps 0.82 /
-# 0.44; 0.05 and 40 steps 1.05 / 0.47; a fixed ρ (5e-5 of H's mean diagonal)
-# 0.94 / 0.49; the previous start (the unconstrained minimizer's out-of-box
-# regions shrunk by 6 stencil rings) 1.12 / 0.65.
+# its number of steps (see _admm_active_sets). Worst / geometric-mean CPU
+# ratio to igl.bbw on the BBW benchmark family with 20, 30, 40, 60 steps:
+# 0.88 / 0.47, 0.93 / 0.47, 0.79 / 0.44, 0.85 / 0.42 (the tetrahedral hand
+# wants fewer, the character with bones more); penalty 0.05: 1.05 / 0.47.
+# The previous start (out-of-box regions shrunk by 6 rings): 1.12 / 0.65.
 ADMM_PENALTY = 0.02
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 40
@@ -131,9 +127,12 @@ def _solve(H, G, tol):
             order = np.argsort(lu.perm_c)
             H_ordered = H[order][:, order].tocsc()
             H_ordered.sort_indices()
+            columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
             X = np.empty((n, m))
             for j in range(m):
-                X[order, j] = _sparse_active_set(H_ordered, G[order, j], at_lower[order, j], at_upper[order, j], tol * scale)
+                X[order, j] = _sparse_active_set(
+                    H_ordered, columns, G[order, j], at_lower[order, j], at_upper[order, j], tol * scale,
+                )
             return X
         # Order C last, the rest in lu's fill-reducing order (lu.perm_c[i] is
         # the position of variable i): the trailing block of the factor is
@@ -278,18 +277,18 @@ def _principal_submatrix(A, columns, keep):
     return sp.csc_matrix((A.data[entries], renumber[A.indices[entries]], indptr), shape=(k, k))
 
 
-def _sparse_active_set(H, g, lower, upper, tol_kkt):
+def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
     """Minimize ``½ xᵀ H x - gᵀ x`` over ``0 ≤ x ≤ 1`` to KKT residual ``tol_kkt``; ``H`` sparse SPD.
 
     ``H`` is CSC with sorted indices, its variables in a fill-reducing order
-    that every free block keeps; ``lower`` and ``upper`` are ``(n,)`` bool,
-    the initial active sets.
+    that every free block keeps, and ``columns`` the column of each of its
+    stored entries (see ``_principal_submatrix``); ``lower`` and ``upper``
+    are ``(n,)`` bool, the initial active sets.
 
     Returns ``x`` ``(n,)``, in the box exactly.
     """
     n = len(g)
     max_iter = 100 + 5 * n
-    columns = np.repeat(np.arange(n), np.diff(H.indptr))
     seen, murty = set(), False
     for _ in range(max_iter):
         free = ~(lower | upper)
