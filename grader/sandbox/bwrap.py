@@ -5,7 +5,9 @@ and the system (``/usr``, the ``/lib*`` and ``/bin`` links, a few files of
 ``/etc``), the course's read-only extras (``data/``, ``starter/``) and their own
 writable working directory, each at its host path; ``/tmp`` is a private tmpfs,
 ``/proc`` and ``/dev`` are minimal, there is no network and no view of the rest
-of the host (the repository's ``reference/``, other students, the gradebook).
+of the host (the repository's ``reference/``, other students, the gradebook),
+and no way to make a user namespace (which would hand the student's code every
+capability over namespaces of its own).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 __all__ = [
     "SandboxSpec",
     "bwrap_available",
+    "user_namespaces_disabled",
     "wrap_command",
     "sandbox_env",
     "DEFAULT_MEMORY_BYTES",
@@ -147,13 +150,14 @@ def _is_env_name(x) -> bool:
 _TRIAL_MOUNTS = ("--ro-bind", "/", "/", "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp")
 
 
-def _trial(*command: str) -> subprocess.CompletedProcess | None:
-    """Run ``command`` in a trial sandbox with the real namespaces; ``None`` if it cannot start."""
+def _trial(*command: str, isolation: Sequence[str] | None = None) -> subprocess.CompletedProcess | None:
+    """Run ``command`` in a trial sandbox with the real namespaces (or ``isolation``); ``None`` if it cannot start."""
     exe = shutil.which("bwrap")
     if exe is None:
         return None
+    isolation = _isolation_args() if isolation is None else isolation
     try:
-        return subprocess.run([exe, *_isolation_args(), *_TRIAL_MOUNTS, *command], capture_output=True, text=True, timeout=30)
+        return subprocess.run([exe, *isolation, *_TRIAL_MOUNTS, *command], capture_output=True, text=True, timeout=30)
     except (OSError, subprocess.TimeoutExpired):
         return None
 
@@ -190,6 +194,14 @@ def sandbox_user_namespace() -> bool:
     """
     trial = _trial("readlink", "/proc/self/ns/user") if bwrap_available() else None
     return trial is not None and trial.returncode == 0 and trial.stdout.strip() not in ("", os.readlink("/proc/self/ns/user"))
+
+
+@functools.cache
+def _warn_user_namespaces_allowed() -> None:
+    log.warning(
+        "bubblewrap here cannot stop student code from creating user namespaces (--disable-userns needs "
+        "bubblewrap 0.8 or newer and a user namespace for the sandbox): kernel exploits that start there stay within reach"
+    )
 
 
 @functools.cache
@@ -256,13 +268,39 @@ def _hidden_paths(spec: SandboxSpec) -> list[Path]:
     return hidden
 
 
+_NAMESPACES = (
+    "--unshare-all",  # user (if possible), network, pid, ipc, uts and (if possible) cgroup namespaces
+    "--die-with-parent",
+    "--new-session",
+)
+# Without these, student code can unshare(CLONE_NEWUSER | CLONE_NEWNET) and hold
+# every capability over a network namespace of its own: the way in for most
+# kernel exploits (nf_tables and the like) that climb out of a container.
+_NO_USER_NAMESPACES = ("--unshare-user", "--disable-userns")
+
+
+@functools.cache
+def user_namespaces_disabled() -> bool:
+    """Whether sandboxed code here is kept from creating user namespaces of its own.
+
+    bubblewrap 0.8 does it (``--disable-userns``) where it can give the
+    sandbox a user namespace; elsewhere student code may create them if the
+    kernel lets this user, and a warning says so once per process.
+
+    Returns
+    -------
+    bool
+        ``True`` if a trial sandbox with ``--disable-userns`` runs. Cached per process.
+    """
+    trial = _trial("true", isolation=[*_NAMESPACES, *_NO_USER_NAMESPACES])
+    return trial is not None and trial.returncode == 0
+
+
 def _isolation_args() -> list[str]:
     """bubblewrap's namespace and process options."""
-    args = [
-        "--unshare-all",  # network, pid, ipc, uts and (if possible) cgroup namespaces
-        "--die-with-parent",
-        "--new-session",
-    ]
+    args = list(_NAMESPACES)
+    if user_namespaces_disabled():
+        args += _NO_USER_NAMESPACES
     if os.geteuid() == 0:
         args += ["--cap-drop", "ALL"]
     return args
@@ -352,6 +390,8 @@ def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, 
         raise ValueError(f"binds must be (\"--bind\" or \"--ro-bind\", path) pairs, got {bad!r}")
     limits = prlimit_prefix(spec.memory_bytes, spec.cpu_seconds, spec.file_bytes)
     if bwrap_available():
+        if not user_namespaces_disabled():
+            _warn_user_namespaces_allowed()
         return [*limits, shutil.which("bwrap"), *_bwrap_args(spec, binds), "--", *argv]
     _warn_without_bwrap()
     env = [f"{k}={v}" for k, v in sandbox_env(spec).items()]

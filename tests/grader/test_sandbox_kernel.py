@@ -212,6 +212,33 @@ def test_network_is_unreachable_even_on_host_loopback(kernel):
     assert out == "ConnectionRefusedError\n"
 
 
+@pytest.mark.skipif(not bwrap.user_namespaces_disabled(), reason="this bubblewrap cannot disable user namespaces (needs 0.8+)")
+def test_student_code_cannot_create_a_user_namespace_nor_gain_any_capability(kernel):
+    _, kc, _ = kernel
+    # In a forked child: the kernel has threads, and unshare(CLONE_NEWUSER) wants a single-threaded caller.
+    out, _ = _run(
+        kc,
+        """
+        import ctypes, errno, os
+        read, write = os.pipe()
+        pid = os.fork()
+        if pid == 0:
+            libc = ctypes.CDLL(None, use_errno=True)
+            lines = []
+            for flags in (0x10000000, 0x10000000 | 0x40000000):  # CLONE_NEWUSER, then with CLONE_NEWNET
+                result = libc.unshare(flags)
+                lines.append(f"{result} {errno.errorcode.get(ctypes.get_errno()) if result else ''}")
+            lines.append(open("/proc/self/status").read().split("CapEff:")[1].split()[0])
+            os.write(write, "\\n".join(lines).encode())
+            os._exit(0)
+        os.close(write)
+        os.waitpid(pid, 0)
+        print(os.read(read, 4096).decode())
+        """,
+    )
+    assert out.splitlines() == ["-1 ENOSPC", "-1 ENOSPC", "0000000000000000"]
+
+
 def test_allocating_8_gb_raises_memory_error_and_the_kernel_survives(kernel):
     _, kc, _ = kernel
     _, reply = _run(kc, "x = bytearray(8 * 2**30)")
