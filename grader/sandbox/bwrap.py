@@ -6,12 +6,14 @@ and the system (``/usr``, the ``/lib*`` and ``/bin`` links, a few files of
 writable working directory, each at its host path; ``/tmp`` is a private tmpfs,
 ``/proc`` and ``/dev`` are minimal, there is no network and no view of the rest
 of the host (the repository's ``reference/``, other students, the gradebook),
-and no way to make a user namespace (which would hand the student's code every
-capability over namespaces of its own).
+no way to make a user namespace (which would hand the student's code every
+capability over namespaces of its own), and the system calls that reach the
+kernel's most exploited parts are refused (:mod:`grader.sandbox.seccomp`).
 """
 
 from __future__ import annotations
 
+import fcntl
 import functools
 import importlib.util
 import logging
@@ -25,11 +27,13 @@ from pathlib import Path
 
 from grader.sandbox.limits import prlimit_prefix
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
+from grader.sandbox.seccomp import filter_program
 
 __all__ = [
     "SandboxSpec",
     "bwrap_available",
     "user_namespaces_disabled",
+    "system_calls_filtered",
     "wrap_command",
     "sandbox_env",
     "DEFAULT_MEMORY_BYTES",
@@ -150,16 +154,64 @@ def _is_env_name(x) -> bool:
 _TRIAL_MOUNTS = ("--ro-bind", "/", "/", "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp")
 
 
-def _trial(*command: str, isolation: Sequence[str] | None = None) -> subprocess.CompletedProcess | None:
-    """Run ``command`` in a trial sandbox with the real namespaces (or ``isolation``); ``None`` if it cannot start."""
+def _trial(*command: str, isolation: Sequence[str] | None = None, filtered: bool = False) -> subprocess.CompletedProcess | None:
+    """Run ``command`` in a trial sandbox with the real namespaces (or ``isolation``); ``None`` if it cannot start.
+
+    ``filtered``: under the seccomp filter too (``None`` where this machine has none).
+    """
     exe = shutil.which("bwrap")
     if exe is None:
         return None
     isolation = _isolation_args() if isolation is None else isolation
+    argv = [exe, *isolation, *_TRIAL_MOUNTS, *command]
+    if filtered:
+        fd = _filter_fd()
+        if fd is None:
+            return None
+        argv = [*_filter_prefix(fd), exe, "--seccomp", "3", *argv[1:]]
     try:
-        return subprocess.run([exe, *isolation, *_TRIAL_MOUNTS, *command], capture_output=True, text=True, timeout=30)
+        return subprocess.run(argv, capture_output=True, text=True, timeout=30)
     except (OSError, subprocess.TimeoutExpired):
         return None
+
+
+@functools.cache
+def _filter_fd() -> int | None:
+    """A sealed memfd with the seccomp filter, open for this process's life; ``None`` where there is no filter."""
+    program = filter_program()
+    if program is None:
+        return None
+    try:
+        fd = os.memfd_create("deformlab-seccomp", os.MFD_CLOEXEC | os.MFD_ALLOW_SEALING)
+    except OSError as exc:
+        log.warning("cannot hold the seccomp filter in memory (memfd_create: %s)", exc)
+        return None
+    os.write(fd, program)
+    fcntl.fcntl(fd, fcntl.F_ADD_SEALS, fcntl.F_SEAL_SEAL | fcntl.F_SEAL_SHRINK | fcntl.F_SEAL_GROW | fcntl.F_SEAL_WRITE)
+    return fd
+
+
+def _filter_prefix(fd: int) -> list[str]:
+    """The argv prefix that hands the filter to bwrap as its fd 3, then execs the command.
+
+    The shell opens the grader's memfd through ``/proc``: nothing on disk to
+    clean up or swap, and the launched process keeps the launcher's pid.
+    """
+    return ["/bin/sh", "-c", 'exec "$@" 3<"$0"', f"/proc/{os.getpid()}/fd/{fd}"]
+
+
+@functools.cache
+def system_calls_filtered() -> bool:
+    """Whether sandboxes here run under the seccomp filter of :mod:`grader.sandbox.seccomp`.
+
+    Returns
+    -------
+    bool
+        ``True`` if this architecture has a filter and a trial sandbox runs
+        under it. Cached per process.
+    """
+    trial = _trial("true", filtered=True) if bwrap_available() else None
+    return trial is not None and trial.returncode == 0
 
 
 @functools.cache
@@ -202,6 +254,11 @@ def _warn_user_namespaces_allowed() -> None:
         "bubblewrap here cannot stop student code from creating user namespaces (--disable-userns needs "
         "bubblewrap 0.8 or newer and a user namespace for the sandbox): kernel exploits that start there stay within reach"
     )
+
+
+@functools.cache
+def _warn_unfiltered() -> None:
+    log.warning("no seccomp filter for this machine: sandboxed code may call io_uring, keyctl, perf_event_open and bpf")
 
 
 @functools.cache
@@ -378,7 +435,9 @@ def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, 
     Returns
     -------
     list of str
-        ``prlimit ... -- bwrap ... -- argv`` when bubblewrap works here.
+        ``sh -c ... prlimit ... -- bwrap --seccomp 3 ... -- argv`` when
+        bubblewrap works here (the shell hands bwrap the seccomp filter;
+        without one for this machine, ``prlimit ... -- bwrap ... -- argv``).
         Otherwise a command that applies the same limits, clean environment
         and working directory and runs ``argv`` in its own session, but with no
         filesystem or network isolation; a warning says so once per process.
@@ -392,7 +451,11 @@ def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, 
     if bwrap_available():
         if not user_namespaces_disabled():
             _warn_user_namespaces_allowed()
-        return [*limits, shutil.which("bwrap"), *_bwrap_args(spec, binds), "--", *argv]
+        bwrap = [shutil.which("bwrap"), *_bwrap_args(spec, binds), "--", *argv]
+        if system_calls_filtered():
+            return [*_filter_prefix(_filter_fd()), *limits, bwrap[0], "--seccomp", "3", *bwrap[1:]]
+        _warn_unfiltered()
+        return [*limits, *bwrap]
     _warn_without_bwrap()
     env = [f"{k}={v}" for k, v in sandbox_env(spec).items()]
     launcher = [sys.executable, "-I", "-S", "-c", _SESSION_LAUNCHER, str(spec.workdir)]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import ast
 import errno
 import os
+import platform
 import socket
 import subprocess
 import sys
@@ -23,6 +24,7 @@ from grader.sandbox import bwrap
 from grader.sandbox.bwrap import SandboxSpec, bwrap_available, wrap_command
 from grader.sandbox.kernel import SandboxedKernelManager, peak_memory_bytes
 from grader.sandbox.limits import is_alive
+from grader.sandbox.seccomp import DENIED
 from grader.sandbox.process_limit import pids_parent
 
 REPO = Path(__file__).resolve().parents[2]
@@ -237,6 +239,28 @@ def test_student_code_cannot_create_a_user_namespace_nor_gain_any_capability(ker
         """,
     )
     assert out.splitlines() == ["-1 ENOSPC", "-1 ENOSPC", "0000000000000000"]
+
+
+@pytest.mark.skipif(not bwrap.system_calls_filtered(), reason="no seccomp filter for this machine")
+def test_student_code_is_refused_io_uring_key_rings_and_performance_events(kernel):
+    _, kc, _ = kernel
+    column = 0 if platform.machine() == "x86_64" else 1
+    numbers = {name: DENIED[name][column] for name in ("io_uring_setup", "keyctl", "perf_event_open", "bpf")}
+    out, _ = _run(
+        kc,
+        f"""
+        import ctypes, errno, os
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.syscall.restype = ctypes.c_long
+        params = ctypes.create_string_buffer(128)  # valid arguments: only the filter can refuse them
+        arguments = {{"io_uring_setup": (4, ctypes.addressof(params)), "keyctl": (0, -3, 0), "perf_event_open": (0, 0, -1, -1, 0), "bpf": (0, 0, 0)}}
+        for name, nr in sorted({numbers!r}.items()):
+            result = libc.syscall(ctypes.c_long(nr), *(ctypes.c_long(a) for a in arguments[name]))
+            print(name, result, errno.errorcode.get(ctypes.get_errno()))
+        print("getpid", os.getpid() > 0)
+        """,
+    )
+    assert out.splitlines() == [f"{name} -1 EPERM" for name in sorted(numbers)] + ["getpid True"]
 
 
 def test_allocating_8_gb_raises_memory_error_and_the_kernel_survives(kernel):
