@@ -7,7 +7,10 @@ machine-core-seconds per notebook (wall × cores / notebooks, the issue's target
 ≤ 0.5), the CPU seconds everything this benchmark started used per notebook
 (grader, workers and the sandboxed kernels), and how much of cores × wall that
 leaves unused (idle, or used by other programs on a shared machine; the
-machine's own idle share over the run is printed beside it). Then one student's
+machine's own idle share over the run is printed beside it), and the steady
+state's core-seconds per notebook, between the first and last quarter's results,
+which is what a large class pays once the run's fixed costs are spread thin.
+Then one student's
 notebooks are graded one by one in this process with timers around each step,
 for the breakdown of a unit's wall time (each next unit's sandbox pre-started, as
 in a worker): kernel start, waits, cells run
@@ -37,6 +40,7 @@ import nbformat
 from grader.build.source_notebook import build_sources
 from grader.corpus import student_notebook
 from grader.paths import CoursePaths, course_paths
+from grader.pipeline import run as run_module
 from grader.pipeline import unit as unit_module
 from grader.pipeline.run import GradeOptions, ensure_gradebook, grade_class
 
@@ -147,16 +151,41 @@ def _graded(paths: CoursePaths, submitted: Path, out: Path, options: GradeOption
     setup = time.perf_counter() - start
     load = os.getloadavg()[0]
     idle, total = _machine_idle()
-    cpu, start = meter.seconds(), time.perf_counter()
-    results = grade_class(submitted, out, options, paths)
-    wall, cpu = time.perf_counter() - start, meter.seconds() - cpu
+    arrivals = []
+    record_result = run_module.record_result
+
+    def timed_record(*args, **kwargs):
+        arrivals.append(time.perf_counter())
+        return record_result(*args, **kwargs)
+
+    run_module.record_result = timed_record
+    try:
+        cpu, start = meter.seconds(), time.perf_counter()
+        results = grade_class(submitted, out, options, paths)
+        wall, cpu = time.perf_counter() - start, meter.seconds() - cpu
+    finally:
+        run_module.record_result = record_result
     idle2, total2 = _machine_idle()
     full = sum(r["score"] == r["max_score"] for r in results)
     return {"notebooks": len(results), "full marks": full, "gradebook set-up, once per course (s)": setup, "wall (s)": wall,
             "core-s per notebook": wall * cores / len(results), _cpu_name(meter): cpu / len(results),
             "cores × wall not used by this run (%)": 100 * max(0.0, 1 - cpu / (wall * cores)),
             "machine idle over the run, all programs (%)": 100 * (idle2 - idle) / max(1, total2 - total),
-            "load average (1 min) at start": load}
+            "load average (1 min) at start": load,
+            "core-s per notebook, steady state (middle half of the results)": _steady_core_seconds(arrivals, cores)}
+
+
+def _steady_core_seconds(arrivals: list[float], cores: int) -> float:
+    """Cores × wall per notebook between the arrivals of the first and last quarter's results.
+
+    What a class of 10,000 pays per notebook: the run's fixed costs (workers
+    starting, each computing the reference's outputs once, the last units
+    finishing on fewer workers than the pool has) fall outside that window.
+    """
+    first, last = len(arrivals) // 4, (3 * len(arrivals)) // 4
+    if last - first < 2:
+        return float("nan")
+    return (arrivals[last] - arrivals[first]) * cores / (last - first)
 
 
 class _Timers:
