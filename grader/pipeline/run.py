@@ -360,8 +360,14 @@ def grade_in_pool(
             pending: dict = {}
             while queue or pending:
                 while queue and len(pending) < 2 * workers and not suspects:
-                    i = queue.pop(0)
-                    pending[pool.submit(grade, spec_of(remaining[i]), readonly)] = i
+                    try:
+                        pending[pool.submit(grade, spec_of(remaining[queue[0]]), readonly)] = queue[0]
+                    except BrokenProcessPool:
+                        # a worker died since the last wait: what is pending fails below,
+                        # and the rest of the queue goes to the next pool
+                        queue.clear()
+                        break
+                    queue.pop(0)
                 if not pending:
                     break
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)

@@ -5,11 +5,14 @@ from __future__ import annotations
 import csv
 import fcntl
 import json
+from concurrent.futures import Future
+from concurrent.futures.process import BrokenProcessPool
 
 import nbformat
 import pytest
 
 from grader.paths import CoursePaths
+from grader.pipeline import run as run_module
 from grader.pipeline.run import GradeOptions, GradingInProgress, grade_class
 from tests.grader.standin_units import CULPRIT, kills_its_worker_for_the_culprit
 
@@ -51,3 +54,39 @@ def test_a_second_run_into_the_same_out_is_refused_while_the_first_holds_it(tmp_
         with pytest.raises(GradingInProgress, match="another `deformlab grade` is writing"):
             grade_class(submitted, out, _options(tmp_path), CoursePaths(tmp_path / "nowhere"), grade=kills_its_worker_for_the_culprit)
     assert not (out / "grades.csv").exists()
+
+
+class _PoolBrokenAfter:
+    """A stand-in executor that runs units at once, until a worker "dies" before its ``breaks_at``-th submission.
+
+    As in ``concurrent.futures``, a broken pool refuses every later ``submit`` with
+    ``BrokenProcessPool``, while the results it already returned stand.
+    """
+
+    def __init__(self, breaks_at: int | None):
+        self.breaks_at, self.submitted = breaks_at, 0
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def submit(self, fn, *args):
+        if self.breaks_at is not None and self.submitted >= self.breaks_at:
+            raise BrokenProcessPool("A child process terminated abruptly, the process pool is not usable anymore")
+        self.submitted += 1
+        future = Future()
+        future.set_result(fn(*args))
+        return future
+
+
+def test_a_pool_that_breaks_between_two_submissions_loses_no_unit(monkeypatch):
+    # The race behind a rare "BrokenProcessPool" escaping grade_class: a worker died after
+    # the last wait returned only finished units, and the next submit found the pool broken.
+    pools = iter([_PoolBrokenAfter(3), _PoolBrokenAfter(None)])
+    monkeypatch.setattr(run_module, "_pool", lambda workers: next(pools))
+    units = [f"unit{k}" for k in range(7)]
+    graded = list(run_module.grade_in_pool(units, lambda unit: unit, lambda unit, reason: {"error": reason}, 2, [], lambda spec, readonly: {"graded": spec}))
+    assert sorted(unit for unit, _ in graded) == units
+    assert all(result == {"graded": unit} for unit, result in graded)
