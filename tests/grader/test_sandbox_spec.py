@@ -11,7 +11,7 @@ import pytest
 
 from grader.sandbox.bwrap import SandboxSpec, wrap_command
 from grader.sandbox.kernel import SandboxedKernelManager
-from grader.sandbox.limits import Process, kill_and_reap, peak_rss_bytes, process, process_tree
+from grader.sandbox.limits import Process, _wait_for_an_exit, is_running, kill_and_reap, peak_rss_bytes, process, process_tree
 
 
 @pytest.mark.parametrize(
@@ -121,3 +121,21 @@ def test_peak_rss_covers_a_child_allocation():
         child.kill()
         child.wait()
     assert peak_rss_bytes([child.pid]) is None
+
+
+def test_waiting_for_an_exit_wakes_when_the_process_exits_not_at_the_timeout():
+    proc = subprocess.Popen(["sleep", "0.3"])
+    sleeper = process(proc.pid)
+    start = time.monotonic()
+    _wait_for_an_exit([sleeper], timeout=60)
+    assert time.monotonic() - start < 30  # woken by the exit, long before the timeout
+    assert not is_running(sleeper)
+    proc.wait()
+
+
+def test_waiting_on_a_recycled_pid_returns_at_once(shell_with_two_sleepers):
+    _, tree = shell_with_two_sleepers
+    start = time.monotonic()
+    _wait_for_an_exit([tree[1], Process(tree[2].pid, tree[2].start_ticks + 1)], timeout=60)
+    assert time.monotonic() - start < 30  # the imposter's pidfd would never have woken it
+    assert is_running(tree[1])
