@@ -165,10 +165,9 @@ def _trial(*command: str, isolation: Sequence[str] | None = None, filtered: bool
     isolation = _isolation_args() if isolation is None else isolation
     argv = [exe, *isolation, *_TRIAL_MOUNTS, *command]
     if filtered:
-        fd = _filter_fd()
-        if fd is None:
+        argv = _under_filter(argv)
+        if argv is None:
             return None
-        argv = [*_filter_prefix(fd), exe, "--seccomp", "3", *argv[1:]]
     try:
         return subprocess.run(argv, capture_output=True, text=True, timeout=30)
     except (OSError, subprocess.TimeoutExpired):
@@ -191,13 +190,18 @@ def _filter_fd() -> int | None:
     return fd
 
 
-def _filter_prefix(fd: int) -> list[str]:
-    """The argv prefix that hands the filter to bwrap as its fd 3, then execs the command.
+def _under_filter(bwrap: list[str]) -> list[str] | None:
+    """``bwrap`` (its argv, the executable first) run under the seccomp filter; ``None`` where there is none.
 
-    The shell opens the grader's memfd through ``/proc``: nothing on disk to
-    clean up or swap, and the launched process keeps the launcher's pid.
+    A shell opens the grader's memfd through ``/proc`` as fd 3 and execs
+    ``bwrap --seccomp 3``: nothing on disk to clean up or swap, and the
+    launched process keeps the launcher's pid. bwrap closes fd 3 before the
+    sandboxed command starts.
     """
-    return ["/bin/sh", "-c", 'exec "$@" 3<"$0"', f"/proc/{os.getpid()}/fd/{fd}"]
+    fd = _filter_fd()
+    if fd is None:
+        return None
+    return ["/bin/sh", "-c", 'exec "$@" 3<"$0"', f"/proc/{os.getpid()}/fd/{fd}", bwrap[0], "--seccomp", "3", *bwrap[1:]]
 
 
 @functools.cache
@@ -435,7 +439,7 @@ def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, 
     Returns
     -------
     list of str
-        ``sh -c ... prlimit ... -- bwrap --seccomp 3 ... -- argv`` when
+        ``prlimit ... -- sh -c ... bwrap --seccomp 3 ... -- argv`` when
         bubblewrap works here (the shell hands bwrap the seccomp filter;
         without one for this machine, ``prlimit ... -- bwrap ... -- argv``).
         Otherwise a command that applies the same limits, clean environment
@@ -453,7 +457,7 @@ def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, 
             _warn_user_namespaces_allowed()
         bwrap = [shutil.which("bwrap"), *_bwrap_args(spec, binds), "--", *argv]
         if system_calls_filtered():
-            return [*_filter_prefix(_filter_fd()), *limits, bwrap[0], "--seccomp", "3", *bwrap[1:]]
+            return [*limits, *_under_filter(bwrap)]
         _warn_unfiltered()
         return [*limits, *bwrap]
     _warn_without_bwrap()

@@ -19,7 +19,7 @@ import errno
 import platform
 import struct
 
-__all__ = ["DENIED", "filter_program"]
+__all__ = ["DENIED", "denied_numbers", "filter_program"]
 
 #: System calls refused, with their numbers on (x86-64, AArch64).
 DENIED = {
@@ -54,6 +54,15 @@ def _instruction(code: int, k: int, jump_true: int = 0, jump_false: int = 0) -> 
     return struct.pack("=HBBI", code, jump_true, jump_false, k)
 
 
+def denied_numbers(machine: str | None = None) -> dict[str, int] | None:
+    """The refused system calls' numbers on ``machine`` (default this one); ``None`` if it has no table here."""
+    machine = platform.machine() if machine is None else machine
+    if machine not in _ARCHES:
+        return None
+    column = _ARCHES[machine][1]
+    return {name: numbers[column] for name, numbers in DENIED.items()}
+
+
 def filter_program(machine: str | None = None) -> bytes | None:
     """The filter as bubblewrap's ``--seccomp`` reads it: an array of ``struct sock_filter``.
 
@@ -71,8 +80,8 @@ def filter_program(machine: str | None = None) -> bytes | None:
     machine = platform.machine() if machine is None else machine
     if machine not in _ARCHES:
         return None
-    arch, column, foreign = _ARCHES[machine]
-    numbers = sorted({numbers[column] for numbers in DENIED.values()})
+    arch, _, foreign = _ARCHES[machine]
+    numbers = sorted(set(denied_numbers(machine).values()))
     checks = ([foreign] if foreign is not None else []) + numbers
     # Layout: check the table, load the number, the checks, allow, refuse.
     program = [
