@@ -43,6 +43,8 @@ from grader.paths import CoursePaths, course_paths
 from grader.pipeline import run as run_module
 from grader.pipeline import unit as unit_module
 from grader.pipeline.run import GradeOptions, ensure_gradebook, grade_class
+from grader.sandbox import fork_server
+from grader.sandbox.bwrap import SandboxSpec, sandbox_env
 
 
 class _CpuMeter:
@@ -262,6 +264,10 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
         for cell in graded_cells(nbformat.read(source, as_version=4)):
             hidden_cases(cell.function, 1)
     once = time.perf_counter() - start
+    start = time.perf_counter()
+    if fork_server.enabled():
+        fork_server.start_template(sandbox_env(SandboxSpec(workdir=submitted)))
+    template = time.perf_counter() - start
     originals = [(owner, name, timers.wrap(owner, name, step, classify)) for owner, name, step, classify in patches]
     unit_module.prestart_kernels()  # as grading workers do
     try:
@@ -282,12 +288,14 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
         for owner, name, original in originals:
             setattr(owner, name, original)
         unit_module.prestart_kernels(False)  # the last spare's shut-down is no unit's
+        fork_server.stop_template()
     s = timers.seconds
     inside = sum(v for k, v in s.items() if k.startswith("execute: "))
     table = {k: v / units for k, v in sorted(s.items()) if k != "execute (total)"}
     table["execute: the rest (waits between cells, clean-up)"] = (s["execute (total)"] - inside) / units
     table["rest of the unit"] = (wall - sum(v for k, v in s.items() if not k.startswith("execute: "))) / units
-    figures = {"reference outputs of every hidden case, once per worker process (s)": once, "unit wall (s)": wall / units}
+    figures = {"reference outputs of every hidden case, once per worker process (s)": once,
+               "kernel template's imports, once per worker process (s)": template, "unit wall (s)": wall / units}
     if meter.whole:
         figures |= {"unit CPU-s (grader and kernel)": cpu / units, "unit CPU-s, grader only": own / units,
                     "unit CPU-s, sandbox (kernel, bwrap)": (cpu - own) / units, "unit wall not spent on CPU (s)": (wall - cpu) / units}

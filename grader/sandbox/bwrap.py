@@ -367,10 +367,10 @@ def _isolation_args() -> list[str]:
     return args
 
 
-def _bwrap_args(spec: SandboxSpec, binds: Sequence[tuple[str, Path]] = ()) -> list[str]:
+def _bwrap_args(spec: SandboxSpec, binds: Sequence[tuple[str, Path]] = (), pid_1: bool = False) -> list[str]:
     """bubblewrap options for ``spec`` and extra ``(option, path)`` binds, mounts in an order where later ones win."""
     # /tmp first, so that a venv or course folder under /tmp is bound on top of it.
-    args = [*_isolation_args(), "--proc", "/proc", "--dev", "/dev", "--size", str(spec.file_bytes), "--tmpfs", "/tmp"]
+    args = [*_isolation_args(), *(["--as-pid-1"] if pid_1 else []), "--proc", "/proc", "--dev", "/dev", "--size", str(spec.file_bytes), "--tmpfs", "/tmp"]
     mounted = [Path("/usr")]
     args += ["--ro-bind", "/usr", "/usr"]
     for name in ROOT_LINKS:
@@ -422,7 +422,7 @@ _SESSION_LAUNCHER = (
 )
 
 
-def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, Path]] = ()) -> list[str]:
+def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, Path]] = (), pid_1: bool = False) -> list[str]:
     """Return the command line that runs ``argv`` inside the sandbox.
 
     Parameters
@@ -435,6 +435,9 @@ def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, 
         Extra host paths the command needs at the same path, each with
         ``"--bind"`` (read-write) or ``"--ro-bind"``: the kernel's connection
         file and sockets. Without bubblewrap they are simply where they are.
+    pid_1 : bool
+        Run ``argv`` as the sandbox's pid 1 (``--as-pid-1``), which must then
+        reap orphans; the sandbox ends when it exits. Needs bubblewrap.
 
     Returns
     -------
@@ -455,11 +458,13 @@ def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, 
     if bwrap_available():
         if not user_namespaces_disabled():
             _warn_user_namespaces_allowed()
-        bwrap = [shutil.which("bwrap"), *_bwrap_args(spec, binds), "--", *argv]
+        bwrap = [shutil.which("bwrap"), *_bwrap_args(spec, binds, pid_1), "--", *argv]
         if system_calls_filtered():
             return [*limits, *_under_filter(bwrap)]
         _warn_unfiltered()
         return [*limits, *bwrap]
+    if pid_1:
+        raise ValueError("pid_1 needs bubblewrap, which is not available here")
     _warn_without_bwrap()
     env = [f"{k}={v}" for k, v in sandbox_env(spec).items()]
     launcher = [sys.executable, "-I", "-S", "-c", _SESSION_LAUNCHER, str(spec.workdir)]

@@ -22,7 +22,9 @@ import functools
 import importlib.util
 import logging
 import os
+import select
 import shutil
+import subprocess
 import sys
 import tempfile
 import time
@@ -36,8 +38,10 @@ from jupyter_client.kernelspec import KernelSpec
 from jupyter_core.utils import run_sync
 from traitlets import DottedObjectName
 
-from grader.sandbox.bwrap import SandboxSpec, sandbox_user_namespace, wrap_command
+from grader.sandbox import bwrap, fork_server
+from grader.sandbox.bwrap import SandboxSpec, sandbox_env, sandbox_user_namespace, wrap_command
 from grader.sandbox.limits import Process, is_running, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process, process_tree
+from grader.sandbox.seccomp import filter_program
 from grader.sandbox.process_limit import ProcessLimit, namespace_cap_prefix, pids_parent
 
 __all__ = ["SandboxedKernelManager", "SandboxedKernelClient", "peak_memory_bytes"]
@@ -148,6 +152,7 @@ class SandboxedKernelManager(KernelManager):
     client_class = DottedObjectName("grader.sandbox.kernel.SandboxedKernelClient", config=True)
 
     pid_namespace: str | None = None  # the sandbox's, e.g. "pid:[4026532771]", once seen
+    forked: bool = False  # this start forks the kernel from the template (grader.sandbox.fork_server)
 
     def __init__(self, spec: SandboxSpec, runtime_root: str | Path | None = None, **kw):
         if not isinstance(spec, SandboxSpec):
@@ -206,10 +211,14 @@ class SandboxedKernelManager(KernelManager):
             hide=[*self.sandbox_spec.hide, *_debugger_paths()],
         )
         kernel = super().format_kernel_cmd(extra_arguments)
+        self._kernel_arguments = kernel[3:]
+        self._kernel_env = sandbox_env(spec)
+        if self.forked:
+            kernel = [sys.executable, "-I", "-S", "-c", fork_server.WAITER]
         if self.namespace_cap is not None:
             kernel = [*namespace_cap_prefix(self.namespace_cap), *kernel]
         binds = [("--ro-bind", Path(self.connection_file)), ("--bind", self.sockets_dir)]
-        command = wrap_command(kernel, spec, binds)
+        command = wrap_command(kernel, spec, binds, pid_1=self.forked)
         if self.process_limit is not None:
             command = [*self.process_limit.join_prefix(), *command]
         return command
@@ -252,6 +261,8 @@ class SandboxedKernelManager(KernelManager):
             self.namespace_cap = cap
         elif cap is not None:
             _warn_without_process_limit()
+        # looked up in bwrap's module each time, so that a test can take bubblewrap away
+        self.forked = fork_server.enabled() and bwrap.bwrap_available()
         return await super()._async_pre_start_kernel(**kw)
 
     pre_start_kernel = run_sync(_async_pre_start_kernel)
@@ -274,10 +285,57 @@ class SandboxedKernelManager(KernelManager):
         self.post_start_kernel(**self._launch_kw)
 
     async def _async_launch_kernel(self, kernel_cmd: list[str], **kw) -> None:
+        if self.forked:
+            try:
+                await self._launch_forked(kernel_cmd, **kw)
+                return
+            except Exception as exc:  # noqa: BLE001 - the kernel starts fresh instead
+                kill_and_reap(self._sandbox_processes())
+                fork_server.disable(f"a kernel could not be forked from the template ({exc})")
+                self.forked = False
+                kernel_cmd = self.format_kernel_cmd(kw.get("extra_arguments"))
         await super()._async_launch_kernel(kernel_cmd, **kw)
         # Remember the launcher with its start time: once jupyter_client has
         # reaped it, its pid may go to any process on the host.
         self.launcher = process(self.provisioner.pid)
+
+    async def _launch_forked(self, kernel_cmd: list[str], **kw) -> None:
+        """Launch the sandbox with the waiter as its pid 1, and have the template fork the kernel into it."""
+        to_waiter, waiter_reads = os.pipe()[::-1]
+        try:
+            await super()._async_launch_kernel(kernel_cmd, **{**kw, "stdin": waiter_reads, "stdout": subprocess.PIPE})
+        finally:
+            os.close(waiter_reads)
+        with os.fdopen(to_waiter, "wb") as to_waiter:
+            self.launcher = process(self.provisioner.pid)
+            await self._enter_waiter(self.provisioner.process.stdout, to_waiter)
+
+    async def _enter_waiter(self, from_waiter, to_waiter) -> None:
+        # The waiter's first byte: bubblewrap has built the sandbox and handed it the waiter.
+        with from_waiter:
+            ready = select.select([from_waiter], [], [], _SOCKETS_TIMEOUT)[0]
+            if not ready or os.read(from_waiter.fileno(), 1) != b"r":
+                raise RuntimeError("the sandbox's waiter did not start")
+        own = pid_namespace(os.getpid())
+        inside = [p for p in process_tree(self.launcher) if pid_namespace(p.pid) not in (None, own)]
+        if not inside:
+            raise RuntimeError("the sandbox's waiter is gone")
+        waiter = inside[0]
+        program = filter_program() if bwrap.system_calls_filtered() else None
+        request = {
+            "target": waiter.pid,
+            "start": waiter.start_ticks,
+            "cgroup": str(self.process_limit.path / "cgroup.procs") if self.process_limit is not None else None,
+            "seccomp": program.hex() if program is not None else None,
+            "workdir": str(self.sandbox_spec.workdir),
+            "env": {**self._kernel_env, "PWD": str(self.sandbox_spec.workdir)},  # bwrap's --chdir sets PWD
+            "argv": self._kernel_arguments,
+        }
+        kernel = await asyncio.to_thread(fork_server.fork_kernel, request, self._kernel_env)
+        inner = _innermost_pid(kernel)
+        if inner is None:
+            raise RuntimeError("the forked kernel is gone")
+        to_waiter.write(f"{inner}\n".encode())
 
     _launch_kernel = run_sync(_async_launch_kernel)
 
@@ -363,6 +421,18 @@ class SandboxedKernelManager(KernelManager):
             if not self.process_limit.remove():
                 log.warning("could not remove the sandbox's pids cgroup %s", self.process_limit.path)
             self.process_limit = None
+
+
+def _innermost_pid(pid: int) -> int | None:
+    """``pid``'s number in its own pid namespace (the last of ``NSpid``), or ``None`` if it is gone."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return None
+    for line in status.splitlines():
+        if line.startswith("NSpid:"):
+            return int(line.split()[-1])
+    return None
 
 
 @functools.cache

@@ -1,0 +1,144 @@
+"""Kernels forked from the template: confined exactly as fresh ones, started with their libraries imported."""
+
+import json
+import logging
+import os
+import time
+
+import pytest
+
+from grader.sandbox import SandboxedKernelManager, SandboxSpec, fork_server
+from grader.sandbox.bwrap import bwrap_available
+from grader.sandbox.limits import namespace_members
+
+pytestmark = pytest.mark.skipif(not bwrap_available(), reason="bubblewrap cannot create namespaces here")
+
+# Everything the sandbox decides about a process, as the process itself sees it.
+PROBE = r"""
+import json, os, resource, sys
+status = dict(line.split(":", 1) for line in open("/proc/self/status").read().splitlines())
+print(json.dumps({
+    "status": {k: v.strip() for k, v in status.items() if k.startswith(("Cap", "NoNewPrivs", "Seccomp", "Uid", "Gid", "Groups"))},
+    "mounts": sorted(line.split()[4] + " " + line.split()[5].split(",")[0] for line in open("/proc/self/mountinfo")),
+    "root": sorted(os.listdir("/")),
+    "processes": sorted(p for p in os.listdir("/proc") if p.isdigit()),
+    "limits": {n: resource.getrlimit(getattr(resource, n)) for n in ("RLIMIT_AS", "RLIMIT_CPU", "RLIMIT_FSIZE", "RLIMIT_CORE", "RLIMIT_NPROC")},
+    "environ": dict(os.environ),
+    "cwd": os.getcwd(),
+    "path": sys.path,
+    "cgroup": open("/proc/self/cgroup").read(),
+    "session_leader": os.getsid(0) == os.getpid(),
+    "umask": os.umask(0o022),
+    "grader_modules": sorted(m for m in sys.modules if m.split(".")[0] in ("grader", "reference", "benchmarks")),
+    "preloaded": [m in sys.modules for m in ("numpy", "scipy.sparse.linalg", "igl")],
+    "random": __import__("random").random(),
+    "numpy_random": __import__("numpy").random.rand(),
+}))
+"""
+
+
+def _run(km: SandboxedKernelManager, code: str) -> str:
+    kc = km.blocking_client()
+    kc.start_channels()
+    try:
+        kc.wait_for_ready(timeout=60)
+        out = []
+        reply = kc.execute_interactive(
+            code, timeout=60, output_hook=lambda m: out.append(m["content"].get("text", "")) if m["msg_type"] == "stream" else None
+        )
+        assert reply["content"]["status"] == "ok", reply["content"]
+        return "".join(out)
+    finally:
+        kc.stop_channels()
+
+
+def _probe(tmp_path, name: str) -> tuple[bool, dict]:
+    workdir = tmp_path / name
+    workdir.mkdir()
+    km = SandboxedKernelManager(SandboxSpec(workdir=workdir, max_processes=64), runtime_root=tmp_path)
+    km.start_kernel()
+    try:
+        text = _run(km, PROBE)
+    finally:
+        km.shutdown_kernel(now=True)
+    # what differs by construction between two sandboxes: their own folders
+    text = text.replace(str(km.runtime_dir), "RUNTIME").replace(str(workdir), "WORKDIR")
+    return km.forked, json.loads(text)
+
+
+def test_a_forked_kernel_is_confined_exactly_as_a_fresh_one_and_starts_with_its_libraries_imported(tmp_path, monkeypatch):
+    forked, inside_forked = _probe(tmp_path, "forked")
+    monkeypatch.setenv("DEFORMLAB_KERNEL_TEMPLATE", "off")
+    fresh, inside_fresh = _probe(tmp_path, "fresh")
+    assert forked and not fresh
+    assert inside_forked.pop("preloaded") == [True, True, True]
+    assert inside_fresh.pop("preloaded") == [False, False, False]
+    for inside in (inside_forked, inside_fresh):
+        inside.pop("random"), inside.pop("numpy_random")
+    # Both are out of the grader's session: bubblewrap's session is led by its own
+    # process, the forked kernel leads one of its own.
+    assert inside_forked.pop("session_leader") and not inside_fresh.pop("session_leader")
+    assert inside_forked == inside_fresh
+    # and what they are: no capability, no privilege to gain, the filter, a pid namespace of two
+    assert inside_forked["status"]["CapEff"] == inside_forked["status"]["CapBnd"] == "0000000000000000"
+    assert inside_forked["status"]["NoNewPrivs"] == "1"
+    assert inside_forked["processes"] == ["1", "2"]
+    assert inside_forked["grader_modules"] == []
+
+
+def test_two_forked_kernels_draw_different_random_numbers(tmp_path):
+    (_, one), (_, two) = _probe(tmp_path, "one"), _probe(tmp_path, "two")
+    assert one["random"] != two["random"] and one["numpy_random"] != two["numpy_random"]
+
+
+def test_the_sandbox_ends_when_its_forked_kernel_exits(tmp_path):
+    km = SandboxedKernelManager(SandboxSpec(workdir=tmp_path), runtime_root=tmp_path)
+    km.start_kernel()
+    try:
+        assert km.forked
+        kc = km.blocking_client()
+        kc.start_channels()
+        kc.wait_for_ready(timeout=60)
+        kc.execute("import os, subprocess; subprocess.Popen(['sleep', '600']); os._exit(0)")
+        kc.stop_channels()
+        deadline = time.monotonic() + 10
+        while km.is_alive() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not km.is_alive()
+        # the waiter took the sandbox with it: the orphaned sleep too
+        assert namespace_members(km.pid_namespace) == []
+    finally:
+        km.shutdown_kernel(now=True)
+
+
+def test_a_kernel_starts_fresh_with_a_warning_when_the_template_cannot_fork_one(tmp_path, monkeypatch, caplog):
+    def broken(request, env):
+        raise RuntimeError("no template today")
+
+    monkeypatch.setattr(fork_server, "fork_kernel", broken)
+    monkeypatch.setattr(fork_server, "_disabled", None)
+    km = SandboxedKernelManager(SandboxSpec(workdir=tmp_path), runtime_root=tmp_path)
+    with caplog.at_level(logging.WARNING, logger="grader.sandbox.fork_server"):
+        km.start_kernel()
+    try:
+        assert not km.forked
+        assert _run(km, "print(6 * 7)") == "42\n"
+        assert "no template today" in caplog.text
+        assert not fork_server.enabled()
+    finally:
+        km.shutdown_kernel(now=True)
+
+
+def test_the_template_refuses_a_request_for_a_sandbox_that_is_gone_and_serves_the_next(tmp_path):
+    env = {"OPENBLAS_NUM_THREADS": "1"}
+    gone = {"target": os.getpid(), "start": -1, "cgroup": None, "seccomp": None, "workdir": str(tmp_path), "env": env, "argv": []}
+    with pytest.raises(RuntimeError, match="waiter is gone"):
+        fork_server.fork_kernel(gone, env)
+    template = fork_server._template
+    km = SandboxedKernelManager(SandboxSpec(workdir=tmp_path), runtime_root=tmp_path)
+    km.start_kernel()
+    try:
+        assert km.forked and fork_server._template is template
+        assert _run(km, "print(6 * 7)") == "42\n"
+    finally:
+        km.shutdown_kernel(now=True)
