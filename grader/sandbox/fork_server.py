@@ -18,8 +18,8 @@ environment and the filter. Student code cannot reach it: it lives outside
 every sandbox's pid namespace and shares no descriptor with one.
 
 Set ``DEFORMLAB_KERNEL_TEMPLATE=off`` to start every kernel fresh. Where the
-template cannot start or a fork fails, the kernel starts fresh and a warning
-says why, once per process.
+template cannot start or a fork fails, that kernel starts fresh and a warning
+says why; after three failures in a row, every later kernel of the process does.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ import threading
 import time
 from pathlib import Path
 
-__all__ = ["WAITER", "enabled", "fork_kernel", "start_template", "stop_template", "disable"]
+__all__ = ["WAITER", "enabled", "fork_kernel", "start_template", "stop_template", "disable", "failed", "succeeded"]
 
 log = logging.getLogger(__name__)
 
@@ -61,15 +61,7 @@ try:
     kernel = os.pidfd_open(int(line))
 except (ValueError, OSError):
     os._exit(1)
-def reap(*_):
-    while True:
-        try:
-            pid, _ = os.waitpid(-1, os.WNOHANG)
-        except ChildProcessError:
-            return
-        if pid == 0:
-            return
-signal.signal(signal.SIGCHLD, reap)
+signal.signal(signal.SIGCHLD, signal.SIG_IGN)  # pid 1: the orphans it inherits are reaped as they exit
 select.select([kernel], [], [])
 os._exit(0)
 """
@@ -78,6 +70,9 @@ _lock = threading.Lock()
 _template: subprocess.Popen | None = None
 _owner: int | None = None  # the pid that started _template: a forked grading process must not share it
 _disabled: str | None = None
+_failures = 0  # forks failed in a row
+#: Forks that may fail in a row (each kernel then starts fresh) before every later kernel does.
+FAILURES_BEFORE_OFF = 3
 
 
 def enabled() -> bool:
@@ -92,6 +87,21 @@ def disable(reason: str) -> None:
         _disabled = reason
         log.warning("kernels start fresh from now on: %s", reason)
     stop_template()
+
+
+def failed(reason: str) -> None:
+    """A kernel could not be forked and starts fresh; after ``FAILURES_BEFORE_OFF`` in a row, every later one does."""
+    global _failures
+    _failures += 1
+    log.warning("a kernel starts fresh: %s", reason)
+    if _failures >= FAILURES_BEFORE_OFF:
+        disable(f"{_failures} forks failed in a row, the last because {reason}")
+
+
+def succeeded() -> None:
+    """A kernel was forked: failures are counted afresh."""
+    global _failures
+    _failures = 0
 
 
 def _template_env(env: dict[str, str]) -> dict[str, str]:

@@ -288,10 +288,11 @@ class SandboxedKernelManager(KernelManager):
         if self.forked:
             try:
                 await self._launch_forked(kernel_cmd, **kw)
+                fork_server.succeeded()
                 return
             except Exception as exc:  # noqa: BLE001 - the kernel starts fresh instead
                 kill_and_reap(self._sandbox_processes())
-                fork_server.disable(f"a kernel could not be forked from the template ({exc})")
+                fork_server.failed(f"it could not be forked from the template ({exc})")
                 self.forked = False
                 kernel_cmd = self.format_kernel_cmd(kw.get("extra_arguments"))
         await super()._async_launch_kernel(kernel_cmd, **kw)

@@ -116,17 +116,33 @@ def test_a_kernel_starts_fresh_with_a_warning_when_the_template_cannot_fork_one(
         raise RuntimeError("no template today")
 
     monkeypatch.setattr(fork_server, "fork_kernel", broken)
-    monkeypatch.setattr(fork_server, "_disabled", None)
+    monkeypatch.setattr(fork_server, "_failures", 0)
     km = SandboxedKernelManager(SandboxSpec(workdir=tmp_path), runtime_root=tmp_path)
     with caplog.at_level(logging.WARNING, logger="grader.sandbox.fork_server"):
         km.start_kernel()
     try:
         assert not km.forked
         assert _run(km, "print(6 * 7)") == "42\n"
-        assert "no template today" in caplog.text
-        assert not fork_server.enabled()
+        assert "a kernel starts fresh: it could not be forked from the template (no template today)" in caplog.text
+        assert fork_server.enabled()  # one failure turns nothing off
     finally:
         km.shutdown_kernel(now=True)
+
+
+def test_three_failed_forks_in_a_row_start_every_later_kernel_fresh_and_a_success_resets_the_count(monkeypatch, caplog):
+    monkeypatch.setattr(fork_server, "_failures", 0)
+    monkeypatch.setattr(fork_server, "_disabled", None)
+    monkeypatch.setattr(fork_server, "stop_template", lambda: None)
+    fork_server.failed("one")
+    fork_server.failed("two")
+    fork_server.succeeded()
+    fork_server.failed("three")
+    fork_server.failed("four")
+    assert fork_server.enabled()
+    with caplog.at_level(logging.WARNING, logger="grader.sandbox.fork_server"):
+        fork_server.failed("five")
+    assert not fork_server.enabled()
+    assert "3 forks failed in a row, the last because five" in caplog.text
 
 
 def test_the_template_refuses_a_request_for_a_sandbox_that_is_gone_and_serves_the_next(tmp_path):

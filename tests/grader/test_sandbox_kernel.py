@@ -553,9 +553,10 @@ def test_a_kernel_is_ready_for_nbclient_as_soon_as_it_answers_and_a_first_cell_g
     assert outputs[0].text == "first\n" and outputs[1].data["text/plain"] == "42"
 
 
-def test_waiting_for_a_kernel_that_dies_during_start_up_raises_a_clear_error(tmp_path):
+def test_waiting_for_a_kernel_that_dies_during_start_up_raises_a_clear_error(tmp_path, monkeypatch):
     from jupyter_core.utils import run_sync
 
+    monkeypatch.setenv("DEFORMLAB_KERNEL_TEMPLATE", "off")  # the command below is the kernel, not a waiter
     spec = SandboxSpec(workdir=tmp_path)
     km = SandboxedKernelManager(spec, runtime_root=tmp_path.parent)
     # A "kernel" that exits at once, in the same sandbox.
