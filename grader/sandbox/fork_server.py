@@ -76,7 +76,7 @@ FAILURES_BEFORE_OFF = 3
 
 
 def enabled() -> bool:
-    """Whether kernels here are forked from the template (not turned off, and no fork has failed)."""
+    """Whether kernels here are forked from the template: not turned off, nor by ``FAILURES_BEFORE_OFF`` failed forks in a row."""
     return _disabled is None and os.environ.get("DEFORMLAB_KERNEL_TEMPLATE", "on").lower() not in ("off", "0", "no")
 
 

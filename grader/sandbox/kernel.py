@@ -56,6 +56,8 @@ _SEALED_UID = 65534
 _SOCKETS_TIMEOUT = 60.0
 # How long one kernel_info request waits for its reply, and then for its "idle" on IOPub, before asking again.
 _READY_ATTEMPT = 1.0
+# How a fresh kernel is started; its arguments follow.
+_KERNEL_LAUNCHER = [sys.executable, "-m", "ipykernel_launcher"]
 
 
 class SandboxedKernelClient(AsyncKernelClient):
@@ -182,7 +184,7 @@ class SandboxedKernelManager(KernelManager):
         return KernelSpec(
             # No history database: nothing reads it, and a student who fills the
             # size-capped /tmp would otherwise get sqlite warnings in their output.
-            argv=[sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}", "--HistoryManager.enabled=False"],
+            argv=[*_KERNEL_LAUNCHER, "-f", "{connection_file}", "--HistoryManager.enabled=False"],
             display_name="Python 3 (sandboxed)",
             language="python",
             interrupt_mode="message",
@@ -211,7 +213,7 @@ class SandboxedKernelManager(KernelManager):
             hide=[*self.sandbox_spec.hide, *_debugger_paths()],
         )
         kernel = super().format_kernel_cmd(extra_arguments)
-        self._kernel_arguments = kernel[3:]
+        self._kernel_arguments = kernel[len(_KERNEL_LAUNCHER):]  # what a forked kernel is started with
         self._kernel_env = sandbox_env(spec)
         if self.forked:
             kernel = [sys.executable, "-I", "-S", "-c", fork_server.WAITER]
@@ -292,6 +294,7 @@ class SandboxedKernelManager(KernelManager):
                 return
             except Exception as exc:  # noqa: BLE001 - the kernel starts fresh instead
                 kill_and_reap(self._sandbox_processes())
+                self.pid_namespace = None  # that sandbox's: the fresh kernel's is another
                 fork_server.failed(f"it could not be forked from the template ({exc})")
                 self.forked = False
                 kernel_cmd = self.format_kernel_cmd(kw.get("extra_arguments"))
@@ -334,7 +337,7 @@ class SandboxedKernelManager(KernelManager):
         }
         kernel = await asyncio.to_thread(fork_server.fork_kernel, request, self._kernel_env)
         inner = _innermost_pid(kernel)
-        if inner is None:
+        if inner is None or pid_namespace(kernel) != pid_namespace(waiter.pid):
             raise RuntimeError("the forked kernel is gone")
         to_waiter.write(f"{inner}\n".encode())
 

@@ -194,8 +194,8 @@ def _become_kernel(request: dict) -> None:
     IPKernelApp.launch_instance(argv=list(request["argv"]))
 
 
-def _fork_kernel(request: dict) -> int:
-    """Fork the child of the module docstring; return the kernel's host pid."""
+def _fork_kernel(request: dict) -> dict:
+    """Fork the child of the module docstring; the reply: ``{"pid": the kernel's host pid}`` or ``{"error": ...}``."""
     report_r, report_w = os.pipe()
     child = os.fork()
     if child == 0:

@@ -29,6 +29,7 @@ print(json.dumps({
     "cgroup": open("/proc/self/cgroup").read(),
     "session_leader": os.getsid(0) == os.getpid(),
     "umask": os.umask(0o022),
+    "dumpable": __import__("ctypes").CDLL(None).prctl(3, 0, 0, 0, 0),
     "grader_modules": sorted(m for m in sys.modules if m.split(".")[0] in ("grader", "reference", "benchmarks")),
     "preloaded": [m in sys.modules for m in ("numpy", "scipy.sparse.linalg", "igl")],
     "random": __import__("random").random(),
