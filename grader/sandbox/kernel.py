@@ -287,6 +287,10 @@ class SandboxedKernelManager(KernelManager):
         self.post_start_kernel(**self._launch_kw)
 
     async def _async_launch_kernel(self, kernel_cmd: list[str], **kw) -> None:
+        # Nothing in the sandbox holds the grader's stdout or stderr (a terminal, a log):
+        # student code would write to them, escape sequences included. Its output is the
+        # notebook's, read from IOPub.
+        kw = {**kw, "stdin": subprocess.DEVNULL, "stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
         if self.forked:
             try:
                 await self._launch_forked(kernel_cmd, **kw)

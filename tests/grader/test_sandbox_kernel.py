@@ -240,6 +240,35 @@ def test_student_code_cannot_create_a_user_namespace_nor_gain_any_capability(ker
     assert out.splitlines() == ["-1 ENOSPC", "-1 ENOSPC", "0000000000000000"]
 
 
+@pytest.mark.parametrize("template", ["on", "off"], ids=["forked", "fresh"])
+def test_student_code_holds_no_descriptor_of_the_graders_stdout_or_stderr(tmp_path, monkeypatch, template):
+    # Before, the kernel (and the sandbox's pid 1) inherited them: a notebook could write
+    # to the TA's terminal or the grading log.
+    monkeypatch.setenv("DEFORMLAB_KERNEL_TEMPLATE", template)
+    graders = sorted({(os.fstat(fd).st_dev, os.fstat(fd).st_ino) for fd in (1, 2)})
+    km, kc = _start(_course(tmp_path))
+    try:
+        out, reply = _run(
+            kc,
+            f"""
+            import os
+            held = set()
+            for pid in ("self", "1"):
+                for fd in os.listdir(f"/proc/{{pid}}/fd"):
+                    try:
+                        st = os.stat(f"/proc/{{pid}}/fd/{{fd}}")
+                    except OSError:  # gone, or not ours to look at
+                        continue
+                    held.add((st.st_dev, st.st_ino))
+            print(sorted(held & {{tuple(g) for g in {graders!r}}}))
+            """,
+        )
+    finally:
+        kc.stop_channels()
+        km.shutdown_kernel(now=True)
+    assert reply["status"] == "ok" and out == "[]\n"
+
+
 @pytest.mark.skipif(not bwrap.system_calls_filtered(), reason="no seccomp filter for this machine")
 def test_student_code_is_refused_io_uring_key_rings_and_performance_events(kernel):
     _, kc, _ = kernel
