@@ -107,7 +107,7 @@ def succeeded() -> None:
 def _template_env(env: dict[str, str]) -> dict[str, str]:
     # Import-time settings (threads, backends, caches) as every kernel will have them;
     # HOME and the working directory are each kernel's own and set after the fork.
-    return {**env, "HOME": "/nonexistent"}
+    return {**{k: v for k, v in env.items() if k != "PWD"}, "HOME": "/nonexistent"}
 
 
 def _start(env: dict[str, str]) -> subprocess.Popen:
@@ -197,15 +197,14 @@ def start_template(env: dict[str, str]) -> None:
         _ensure_template(env)
 
 
-def fork_kernel(request: dict, env: dict[str, str]) -> int:
+def fork_kernel(request: dict) -> int:
     """Have the template fork a kernel into a sandbox; return the kernel's host pid.
 
     Parameters
     ----------
     request : dict
-        As :mod:`grader.sandbox.kernel_template` reads it.
-    env : dict of str to str
-        The sandbox's environment, for a template started now.
+        As :mod:`grader.sandbox.kernel_template` reads it; a template started
+        now gets its ``env`` (the sandbox's environment).
 
     Raises
     ------
@@ -216,7 +215,7 @@ def fork_kernel(request: dict, env: dict[str, str]) -> int:
     global _template
     line = json.dumps(request).encode() + b"\n"
     with _lock:
-        _ensure_template(env)
+        _ensure_template(request["env"])
         try:
             _template.stdin.write(line)
             _template.stdin.flush()

@@ -40,7 +40,9 @@ from traitlets import DottedObjectName
 
 from grader.sandbox import bwrap, fork_server
 from grader.sandbox.bwrap import SandboxSpec, sandbox_env, sandbox_user_namespace, wrap_command
-from grader.sandbox.limits import Process, is_running, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process, process_tree
+from grader.sandbox.limits import (
+    Process, innermost_pid, is_running, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process, process_tree,
+)
 from grader.sandbox.seccomp import filter_program
 from grader.sandbox.process_limit import ProcessLimit, namespace_cap_prefix, pids_parent
 
@@ -204,19 +206,8 @@ class SandboxedKernelManager(KernelManager):
             :func:`grader.sandbox.bwrap.wrap_command` of
             ``python -m ipykernel_launcher -f <connection file> ...``.
         """
-        # Inside the pid namespace the kernel's parent is bwrap's pid 1; saying so
-        # keeps ipykernel from polling a parent pid it cannot see and from
-        # printing its "ipython kernel entry point" note on the grader's stdout.
-        spec = dataclasses.replace(
-            self.sandbox_spec,
-            env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env},
-            hide=[*self.sandbox_spec.hide, *_debugger_paths()],
-        )
-        kernel = super().format_kernel_cmd(extra_arguments)
-        self._kernel_arguments = kernel[len(_KERNEL_LAUNCHER):]  # what a forked kernel is started with
-        self._kernel_env = sandbox_env(spec)
-        if self.forked:
-            kernel = [sys.executable, "-I", "-S", "-c", fork_server.WAITER]
+        spec = self._kernel_sandbox()
+        kernel = [sys.executable, "-I", "-S", "-c", fork_server.WAITER] if self.forked else super().format_kernel_cmd(extra_arguments)
         if self.namespace_cap is not None:
             kernel = [*namespace_cap_prefix(self.namespace_cap), *kernel]
         binds = [("--ro-bind", Path(self.connection_file)), ("--bind", self.sockets_dir)]
@@ -224,6 +215,17 @@ class SandboxedKernelManager(KernelManager):
         if self.process_limit is not None:
             command = [*self.process_limit.join_prefix(), *command]
         return command
+
+    def _kernel_sandbox(self) -> SandboxSpec:
+        """``sandbox_spec`` as the kernel runs in it."""
+        # Inside the pid namespace the kernel's parent is bwrap's pid 1; saying so
+        # keeps ipykernel from polling a parent pid it cannot see and from
+        # printing its "ipython kernel entry point" note on the grader's stdout.
+        return dataclasses.replace(
+            self.sandbox_spec,
+            env={"JPY_PARENT_PID": "1", **self.sandbox_spec.env},
+            hide=[*self.sandbox_spec.hide, *_debugger_paths()],
+        )
 
     def processes_refused(self) -> int:
         """How many new processes or threads the kernel's cap has refused since it started.
@@ -316,19 +318,20 @@ class SandboxedKernelManager(KernelManager):
             os.close(waiter_reads)
         with os.fdopen(to_waiter, "wb") as to_waiter:
             self.launcher = process(self.provisioner.pid)
-            await self._enter_waiter(self.provisioner.process.stdout, to_waiter)
+            # what a fresh kernel would be started with, less the interpreter and the launcher module
+            arguments = super().format_kernel_cmd(kw.get("extra_arguments"))[len(_KERNEL_LAUNCHER):]
+            await self._enter_waiter(self.provisioner.process.stdout, to_waiter, arguments)
 
-    async def _enter_waiter(self, from_waiter, to_waiter) -> None:
+    async def _enter_waiter(self, from_waiter, to_waiter, arguments: list[str]) -> None:
         # The waiter's first byte: bubblewrap has built the sandbox and handed it the waiter.
         with from_waiter:
             ready = select.select([from_waiter], [], [], _SOCKETS_TIMEOUT)[0]
             if not ready or os.read(from_waiter.fileno(), 1) != b"r":
                 raise RuntimeError("the sandbox's waiter did not start")
-        own = pid_namespace(os.getpid())
-        inside = [p for p in process_tree(self.launcher) if pid_namespace(p.pid) not in (None, own)]
-        if not inside:
+        found = self._first_in_sandbox()
+        if found is None:
             raise RuntimeError("the sandbox's waiter is gone")
-        waiter = inside[0]
+        waiter, self.pid_namespace = found
         program = filter_program() if bwrap.system_calls_filtered() else None
         request = {
             "target": waiter.pid,
@@ -336,12 +339,12 @@ class SandboxedKernelManager(KernelManager):
             "cgroup": str(self.process_limit.path / "cgroup.procs") if self.process_limit is not None else None,
             "seccomp": program.hex() if program is not None else None,
             "workdir": str(self.sandbox_spec.workdir),
-            "env": {**self._kernel_env, "PWD": str(self.sandbox_spec.workdir)},  # bwrap's --chdir sets PWD
-            "argv": self._kernel_arguments,
+            "env": {**sandbox_env(self._kernel_sandbox()), "PWD": str(self.sandbox_spec.workdir)},  # bwrap's --chdir sets PWD
+            "argv": arguments,
         }
-        kernel = await asyncio.to_thread(fork_server.fork_kernel, request, self._kernel_env)
-        inner = _innermost_pid(kernel)
-        if inner is None or pid_namespace(kernel) != pid_namespace(waiter.pid):
+        kernel = await asyncio.to_thread(fork_server.fork_kernel, request)
+        inner = innermost_pid(kernel)
+        if inner is None or pid_namespace(kernel) != self.pid_namespace:
             raise RuntimeError("the forked kernel is gone")
         to_waiter.write(f"{inner}\n".encode())
 
@@ -378,14 +381,19 @@ class SandboxedKernelManager(KernelManager):
 
     def _note_pid_namespace(self) -> None:
         """Remember the pid namespace the sandbox's processes are in (bwrap gives it one of its own)."""
-        if self.pid_namespace is not None or self.launcher is None:
-            return
+        if self.pid_namespace is None and (found := self._first_in_sandbox()) is not None:
+            self.pid_namespace = found[1]
+
+    def _first_in_sandbox(self) -> tuple[Process, str] | None:
+        """The launcher's first descendant in a pid namespace other than the grader's, and that namespace."""
+        if self.launcher is None:
+            return None
         own = pid_namespace(os.getpid())
         for proc in process_tree(self.launcher):
             ns = pid_namespace(proc.pid)
             if ns is not None and ns != own:
-                self.pid_namespace = ns
-                return
+                return proc, ns
+        return None
 
     def _sandbox_processes(self) -> list[Process]:
         # The launcher's tree, plus whatever is in the sandbox's pid namespace or
@@ -429,18 +437,6 @@ class SandboxedKernelManager(KernelManager):
             if not self.process_limit.remove():
                 log.warning("could not remove the sandbox's pids cgroup %s", self.process_limit.path)
             self.process_limit = None
-
-
-def _innermost_pid(pid: int) -> int | None:
-    """``pid``'s number in its own pid namespace (the last of ``NSpid``), or ``None`` if it is gone."""
-    try:
-        status = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return None
-    for line in status.splitlines():
-        if line.startswith("NSpid:"):
-            return int(line.split()[-1])
-    return None
 
 
 @functools.cache

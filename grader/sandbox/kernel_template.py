@@ -94,10 +94,12 @@ _CGROUP_ROOT = "/sys/fs/cgroup/"
 _NAMESPACES = ("mnt", "pid", "net", "ipc", "uts", "cgroup")
 
 
-def _check(result: int, what: str) -> None:
-    if result != 0:
+def _check(result: int, what: str) -> int:
+    """``result`` of a libc call, which fails with -1 and ``errno``."""
+    if result < 0:
         errno = ctypes.get_errno()
         raise OSError(errno, f"{what}: {os.strerror(errno)}")
+    return result
 
 
 def _start_time(pid: int) -> int:
@@ -112,19 +114,11 @@ def _user_namespaces(target: int) -> list[int]:
     chain = [os.open(f"/proc/{target}/ns/user", os.O_RDONLY)]
     while os.fstat(chain[-1]).st_ino != own:
         try:
-            chain.append(_ioctl_fd(chain[-1], _NS_GET_PARENT))
+            chain.append(_check(_libc.ioctl(chain[-1], _NS_GET_PARENT), "NS_GET_PARENT"))
         except PermissionError:  # above this process's own namespace: the target's is not nested in it
             raise OSError("the sandbox's user namespace is not nested in the template's") from None
     os.close(chain.pop())
     return chain[::-1]
-
-
-def _ioctl_fd(fd: int, request: int) -> int:
-    result = _libc.ioctl(fd, request)
-    if result < 0:
-        errno = ctypes.get_errno()
-        raise OSError(errno, os.strerror(errno))
-    return result
 
 
 def _enter(request: dict) -> None:

@@ -17,7 +17,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "pid_namespace", "namespace_members", "status_bytes", "peak_rss_bytes", "kill_and_reap", "is_alive", "is_running"]
+__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "pid_namespace", "innermost_pid", "namespace_members", "status_bytes", "peak_rss_bytes", "kill_and_reap", "is_alive", "is_running"]
 
 
 class Process(NamedTuple):
@@ -162,6 +162,35 @@ def namespace_members(namespace: str) -> list[int]:
     return sorted(found)
 
 
+def innermost_pid(pid: int) -> int | None:
+    """A host process's number in its own pid namespace (the last of ``NSpid``); ``None`` if it is gone.
+
+    Parameters
+    ----------
+    pid : int
+        Host pid.
+
+    Returns
+    -------
+    int or None
+        Set by the kernel: a process cannot choose it.
+    """
+    values = _status_field(pid, "NSpid")
+    return int(values[-1]) if values else None
+
+
+def _status_field(pid: int, key: str) -> list[str] | None:
+    """The values of one field of ``/proc/<pid>/status``; ``None`` if the process or the field is missing."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return None
+    for line in status.splitlines():
+        if line.startswith(key + ":"):
+            return line.split()[1:]
+    return None
+
+
 def status_bytes(pid: int, key: str) -> int | None:
     """A size field of ``/proc/<pid>/status`` (``VmHWM``, ``VmSize``, …) in bytes; ``None`` if unreadable.
 
@@ -176,13 +205,11 @@ def status_bytes(pid: int, key: str) -> int | None:
     -------
     int or None
     """
+    values = _status_field(pid, key)
     try:
-        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-            if line.startswith(key + ":"):
-                return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
+        return int(values[0]) * 1024 if values else None
+    except ValueError:
         return None
-    return None
 
 
 def peak_rss_bytes(pids: Iterable[int]) -> int | None:

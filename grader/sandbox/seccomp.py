@@ -16,6 +16,7 @@ AArch64) would dodge the numbers below, so every such call is refused.
 from __future__ import annotations
 
 import errno
+import functools
 import platform
 import struct
 
@@ -63,6 +64,7 @@ def denied_numbers(machine: str | None = None) -> dict[str, int] | None:
     return {name: numbers[column] for name, numbers in DENIED.items()}
 
 
+@functools.cache  # every kernel start sends it to the template
 def filter_program(machine: str | None = None) -> bytes | None:
     """The filter as bubblewrap's ``--seccomp`` reads it: an array of ``struct sock_filter``.
 

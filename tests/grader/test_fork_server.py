@@ -120,7 +120,7 @@ def test_the_sandbox_ends_when_its_forked_kernel_exits(tmp_path):
 
 
 def test_a_kernel_starts_fresh_with_a_warning_when_the_template_cannot_fork_one(tmp_path, monkeypatch, caplog):
-    def broken(request, env):
+    def broken(request):
         raise RuntimeError("no template today")
 
     monkeypatch.setattr(fork_server, "fork_kernel", broken)
@@ -157,7 +157,7 @@ def test_the_template_refuses_a_request_for_a_sandbox_that_is_gone_and_serves_th
     env = {"OPENBLAS_NUM_THREADS": "1"}
     gone = {"target": os.getpid(), "start": -1, "cgroup": None, "seccomp": None, "workdir": str(tmp_path), "env": env, "argv": []}
     with pytest.raises(RuntimeError, match="waiter is gone"):
-        fork_server.fork_kernel(gone, env)
+        fork_server.fork_kernel(gone)
     template = fork_server._template
     km = SandboxedKernelManager(SandboxSpec(workdir=tmp_path), runtime_root=tmp_path)
     km.start_kernel()
