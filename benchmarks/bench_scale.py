@@ -235,7 +235,7 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
     timers = _Timers()
 
     def cell_kind(client, cell, index, **kwargs):
-        if cell.source.startswith(execute_module.KERNEL_SIDE_SOURCE[:200]):
+        if "__deformlab_collect__(" in cell.source:
             return "execute: collection cells"
         return "execute: replayed definitions" if kwargs.get("store_history") is False else "execute: definition cells (imports)"
 
