@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_pair, close, verdict
+from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_matrix, as_pair, close, max_abs, verdict
 from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
 from grader.checks.rotations import rotation_verdicts
 from grader.checks.shape_matching import random_rotation, trace_verdict
@@ -249,9 +249,9 @@ class CotangentLaplacianChecks(FunctionChecks):
 
     def verify(self, case, got, expected):
         n = len(case.args()[0])
-        L = as_array(got, (n, n), "L")
-        want = as_array(expected, (n, n), "the reference's L")
-        scale = float(np.abs(want).max())
+        L = as_matrix(got, (n, n), "L")
+        want = as_matrix(expected, (n, n), "the reference's L")
+        scale = max_abs(want)
         ok, where = close(L, want, DIRECT_RTOL, scale)
         hint = ""
         if not ok and close(L, -want, DIRECT_RTOL, scale)[0]:

@@ -23,6 +23,7 @@ __all__ = [
     "FunctionChecks",
     "ShapeError",
     "as_array",
+    "as_matrix",
     "as_int",
     "as_float",
     "as_pair",
@@ -64,10 +65,8 @@ def as_array(value: Any, shape: tuple | None = None, what: str = "output", dtype
         a = np.array(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ShapeError(f"{what} is not numeric: {exc}") from None
-    if shape is not None:
-        if a.ndim != len(shape) or any(s is not None and s != t for s, t in zip(shape, a.shape)):
-            want = "(" + ", ".join("?" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
-            raise ShapeError(f"{what} should have shape {want}, got {a.shape}")
+    if shape is not None and (a.ndim != len(shape) or any(s is not None and s != t for s, t in zip(shape, a.shape))):
+        raise ShapeError(f"{what} should have shape {_shape_text(shape)}, got {a.shape}")
     if not np.all(np.isfinite(a)):
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])
         raise ShapeError(f"{what} has NaN or inf (first at index {bad})")
@@ -76,6 +75,44 @@ def as_array(value: Any, shape: tuple | None = None, what: str = "output", dtype
             raise ShapeError(f"{what} should hold integers")
         a = a.astype(dtype)
     return a
+
+
+def _shape_text(shape: tuple) -> str:
+    return "(" + ", ".join("?" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+
+
+def as_matrix(value: Any, shape: tuple[int, int], what: str = "output") -> sp.csr_matrix:
+    """Finite float64 CSR matrix of the given shape, from a sparse or a dense output.
+
+    A sparse output is never densified: an n x n Laplacian of a tet mesh is 11 MB dense.
+
+    Raises
+    ------
+    ShapeError
+        Naming the expected and found shape, or the first non-finite entry.
+    """
+    if not sp.issparse(value):
+        return sp.csr_matrix(as_array(value, shape, what))
+    if value.shape != tuple(shape):
+        raise ShapeError(f"{what} should have shape {_shape_text(shape)}, got {value.shape}")
+    try:
+        a = sp.csr_matrix(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ShapeError(f"{what} is not numeric: {exc}") from None
+    a.sum_duplicates()  # canonical: entries in row-major order, as as_array reports them
+    bad = np.flatnonzero(~np.isfinite(a.data))
+    if bad.size:
+        row = int(np.searchsorted(a.indptr, bad[0], side="right")) - 1
+        raise ShapeError(f"{what} has NaN or inf (first at index {(row, int(a.indices[bad[0]]))})")
+    return a
+
+
+def max_abs(a) -> float:
+    """Largest absolute entry of a dense or sparse array (0 when it has none)."""
+    if sp.issparse(a):
+        return float(abs(a).max()) if a.nnz else 0.0
+    a = np.asarray(a, float)
+    return float(np.abs(a).max()) if a.size else 0.0
 
 
 def as_int(value: Any, what: str = "output") -> int:
@@ -96,13 +133,35 @@ def as_pair(value: Any, what: str = "output") -> tuple:
 
 
 def close(a: np.ndarray, b: np.ndarray, tol: float, scale: float = 1.0) -> tuple[bool, str]:
-    """``max |a - b| <= tol * max(scale, 1)``; also reports where the worst entry is."""
+    """``max |a - b| <= tol * max(scale, 1)``; also reports where the worst entry is.
+
+    ``a`` and ``b`` may be sparse (then only their stored entries are visited), ``b`` a scalar.
+    """
+    if sp.issparse(a) or sp.issparse(b):
+        return _close_sparse(a, b, tol, scale)
     err = np.abs(np.asarray(a, float) - np.asarray(b, float))
     if err.size == 0:
         return True, ""
     worst = np.unravel_index(int(np.argmax(err)), err.shape)
     ok = float(err[worst]) <= tol * max(scale, 1.0)
     return ok, f"largest difference {float(err[worst]):.3g} at index {tuple(int(i) for i in worst)}"
+
+
+def _close_sparse(a, b, tol: float, scale: float) -> tuple[bool, str]:
+    a = sp.csr_matrix(a, dtype=np.float64)
+    if np.ndim(b) == 0 and float(b) == 0.0:
+        err = abs(a).tocoo()
+    else:
+        err = abs(a - sp.csr_matrix(b, dtype=np.float64)).tocoo()
+    if a.shape[0] * a.shape[1] == 0:
+        return True, ""
+    if err.nnz == 0:
+        worst, largest = (0, 0), 0.0
+    else:
+        k = int(np.argmax(err.data))
+        worst, largest = (int(err.row[k]), int(err.col[k])), float(err.data[k])
+    ok = largest <= tol * max(scale, 1.0)
+    return ok, f"largest difference {largest:.3g} at index {worst}"
 
 
 class FunctionChecks:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from grader.checks.arap import sparse_verdict
-from grader.checks.base import Case, FunctionChecks, as_array, as_pair, close, verdict
+from grader.checks.base import Case, FunctionChecks, as_array, as_matrix, as_pair, close, max_abs, verdict
 from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
 from grader.contract import reference_function as reference
 from starter import shapes
@@ -144,9 +144,9 @@ class BiharmonicMatrixChecks(FunctionChecks):
 
     def verify(self, case, got, expected):
         n = len(case.args()[0])
-        Q = as_array(got, (n, n), "Q")
-        want = as_array(expected, (n, n), "the reference's Q")
-        ok, where = close(Q, want, MATRIX_RTOL, float(np.abs(want).max()))
+        Q = as_matrix(got, (n, n), "Q")
+        want = as_matrix(expected, (n, n), "the reference's Q")
+        ok, where = close(Q, want, MATRIX_RTOL, max_abs(want))
         return [sparse_verdict(got), verdict("Q matches L M⁻¹ L", ok, where)]
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from grader.checks.base import Case, FunctionChecks, Ref, Step, as_array, as_float, close, verdict
+from grader.checks.base import Case, FunctionChecks, Ref, Step, as_array, as_float, as_matrix, close, max_abs, verdict
 from grader.checks.shape_matching import random_rotation
 from starter.meshes import load_mesh
 
@@ -106,9 +106,9 @@ class TetCotangentLaplacianChecks(FunctionChecks):
     def verify(self, case, got, expected):
         V, T = case.args()
         n = len(V)
-        L = as_array(got, (n, n), "L")
-        want = as_array(expected, (n, n), "the reference's L")
-        scale = float(np.abs(want).max())
+        L = as_matrix(got, (n, n), "L")
+        want = as_matrix(expected, (n, n), "the reference's L")
+        scale = max_abs(want)
         ok, where = close(L, want, TET_RTOL, scale)
         hint = ""
         if not ok:
@@ -116,7 +116,7 @@ class TetCotangentLaplacianChecks(FunctionChecks):
                 hint = " (the signs are flipped: off-diagonal entries are -|vol| ∇φ_i · ∇φ_j, the diagonal makes rows sum to zero)"
             elif close(L, 6 * want, TET_RTOL, scale)[0]:
                 hint = " (six times too large: multiply by the volume det / 6, not by det)"
-            elif not close(L.sum(axis=1), 0.0, TET_RTOL, scale)[0]:
+            elif not close(np.asarray(L.sum(axis=1)).ravel(), 0.0, TET_RTOL, scale)[0]:
                 hint = " (the rows do not sum to zero: L[i, i] is minus the sum of the row's other entries)"
         return [verdict("L matches", ok, where + hint)]
 
@@ -131,17 +131,17 @@ class TetMassMatrixChecks(FunctionChecks):
     def verify(self, case, got, expected):
         V, T = case.args()
         n = len(V)
-        M = as_array(got, (n, n), "M")
-        want = as_array(expected, (n, n), "the reference's M")
-        scale = float(np.abs(want).max())
+        M = as_matrix(got, (n, n), "M")
+        want = as_matrix(expected, (n, n), "the reference's M")
+        scale = max_abs(want)
         ok, where = close(M, want, TET_RTOL, scale)
         hint = ""
-        if not ok and np.any(np.diag(M) < 0):
+        if not ok and np.any(M.diagonal() < 0):
             hint = " (negative masses: use |vol|, a negatively oriented tetrahedron still has a positive volume)"
         elif not ok and close(M, 4 * want, TET_RTOL, scale)[0]:
             hint = " (each vertex gets a quarter of each tetrahedron's volume, not all of it)"
         return [
-            verdict("M is diagonal", close(M - np.diag(np.diag(M)), 0.0, TET_RTOL, scale)[0], "off-diagonal entries"),
+            verdict("M is diagonal", close(M - sp.diags(M.diagonal()), 0.0, TET_RTOL, scale)[0], "off-diagonal entries"),
             verdict("M matches", ok, where + hint),
         ]
 
@@ -159,9 +159,9 @@ class TetBiharmonicMatrixChecks(FunctionChecks):
 
         V, T = case.args()
         n = len(V)
-        Q = as_array(got, (n, n), "Q")
-        want = as_array(expected, (n, n), "the reference's Q")
-        ok, where = close(Q, want, TET_RTOL, float(np.abs(want).max()))
+        Q = as_matrix(got, (n, n), "Q")
+        want = as_matrix(expected, (n, n), "the reference's Q")
+        ok, where = close(Q, want, TET_RTOL, max_abs(want))
         hint = ""
         if not ok:
             L = sp.csr_matrix(reference_function("tet_cotangent_laplacian")(V, T))
@@ -170,8 +170,7 @@ class TetBiharmonicMatrixChecks(FunctionChecks):
                 (L @ L, "M⁻¹ is missing: Q = L M⁻¹ L, not L L"),
                 (L @ sp.diags(mass) @ L, "multiply by M⁻¹, not by M"),
             ):
-                wrong = wrong.toarray()
-                if close(Q, wrong, TET_RTOL, float(np.abs(wrong).max()))[0]:
+                if close(Q, wrong, TET_RTOL, max_abs(wrong))[0]:
                     hint = f" ({why})"
                     break
         return [sparse_verdict(got), verdict("Q matches L M⁻¹ L", ok, where + hint)]
