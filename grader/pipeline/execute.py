@@ -280,11 +280,12 @@ def sandbox_spec(workdir: Path, options: ExecuteOptions) -> SandboxSpec:
 def prestart(workdir: Path, options: ExecuteOptions) -> SandboxedKernelManager:
     """Launch the kernel a later :func:`execute` on ``workdir`` with ``options`` will use, and return at once.
 
-    The kernel boots (interpreter, ipykernel) while the grader does other work. Pass it to
-    that one ``execute`` only: the sandbox is bound to ``workdir``.
+    The sandbox is built and the kernel boots while the grader does other work; a kernel
+    forked from the template is forked at ``km.complete_launch()``, or else when ``execute``
+    starts it. Pass it to that one ``execute`` only: the sandbox is bound to ``workdir``.
     """
     km = SandboxedKernelManager(sandbox_spec(workdir, options), runtime_root=options.runtime_root)
-    km.launch(cwd=str(workdir))
+    km.launch(defer_fork=True, cwd=str(workdir))
     return km
 
 

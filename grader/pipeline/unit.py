@@ -279,6 +279,18 @@ def _prestart_next(spec: UnitSpec, readonly: list[str]) -> None:
         _spares[threading.get_ident()] = _Spare(_sandbox_key(spec, readonly), stack, ws, km)
 
 
+def _complete_spare_launch() -> None:
+    """Fork the kernel of this thread's spare into its sandbox (:func:`prestart` only launched the sandbox)."""
+    spare = spare_sandbox()
+    if spare is None:
+        return
+    try:
+        spare.km.complete_launch()
+    except Exception:  # noqa: BLE001 - the next unit starts its own sandbox, as without a spare
+        log.warning("could not start the next unit's kernel", exc_info=True)
+        _take_spare().close()
+
+
 def _execute_options(spec: UnitSpec, readonly: list[str], ws: Workspace) -> ExecuteOptions:
     return ExecuteOptions(
         timeout=spec.timeout,
@@ -346,6 +358,7 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
                 ],
             }
         )
+    _complete_spare_launch()  # its sandbox was built while this unit was verified; its kernel boots now
     reasons = [f"cell {i + 1}: {why}" for i, why in sorted(run.cell_failures.items())]
     status = "grader-error" if broken else "graded" if not run.events else "graded-with-incidents"
     reasons += list(broken.values())

@@ -151,6 +151,8 @@ class SandboxedKernelManager(KernelManager):
 
     process_limit: ProcessLimit | None = None
     launcher: Process | None = None
+    # a deferred launch's channel to its sandbox's waiter: (its stdout, its stdin, the launch's options)
+    _pending_fork: tuple | None = None
     namespace_cap: int | None = None  # RLIMIT_NPROC applied inside the sandbox, when no cgroup caps it
 
     client_class = DottedObjectName("grader.sandbox.kernel.SandboxedKernelClient", config=True)
@@ -186,7 +188,9 @@ class SandboxedKernelManager(KernelManager):
         return KernelSpec(
             # No history database: nothing reads it, and a student who fills the
             # size-capped /tmp would otherwise get sqlite warnings in their output.
-            argv=[*_KERNEL_LAUNCHER, "-f", "{connection_file}", "--HistoryManager.enabled=False"],
+            # No 0.5 ms sleep before each execute_reply: ipykernel keeps it for front ends that
+            # stop at the reply, but nbclient reads outputs until the kernel says it is idle.
+            argv=[*_KERNEL_LAUNCHER, "-f", "{connection_file}", "--HistoryManager.enabled=False", "--IPythonKernel._execute_sleep=0"],
             display_name="Python 3 (sandboxed)",
             language="python",
             interrupt_mode="message",
@@ -271,63 +275,97 @@ class SandboxedKernelManager(KernelManager):
 
     pre_start_kernel = run_sync(_async_pre_start_kernel)
 
-    def launch(self, **kw) -> None:
+    def launch(self, defer_fork: bool = False, **kw) -> None:
         """Start the kernel's process and return at once, without waiting for it to boot.
 
         :meth:`finish_start` completes the start (waits for the sockets, seals them, connects
         the control socket); until then no client should talk to the kernel. ``start_kernel``
         is ``launch`` then ``finish_start``. A kernel launched ahead of time boots while the
         grader does other work (``grader.pipeline.unit`` pre-starts the next unit's sandbox).
+
+        With ``defer_fork``, a kernel to be forked from the template gets only its sandbox:
+        bubblewrap builds it (about 20 ms, much of it waiting on the host's kernel) while the
+        grader works on, and :meth:`complete_launch` forks the kernel into it.
         """
         self._attempted_start = True
         kernel_cmd, kw = self.pre_start_kernel(**kw)
-        self._launch_kernel(kernel_cmd, **kw)
+        self._launch_kernel(kernel_cmd, defer_fork=defer_fork, **kw)
         self._launch_kw = kw
 
     def finish_start(self) -> None:
-        """Complete a :meth:`launch`: wait for the kernel's sockets and seal them."""
+        """Complete a :meth:`launch`: fork the kernel if that was deferred, wait for its sockets and seal them."""
+        self.complete_launch()
         self.post_start_kernel(**self._launch_kw)
 
-    async def _async_launch_kernel(self, kernel_cmd: list[str], **kw) -> None:
+    async def _async_launch_kernel(self, kernel_cmd: list[str], defer_fork: bool = False, **kw) -> None:
         # Nothing in the sandbox holds the grader's stdout or stderr (a terminal, a log):
         # student code would write to them, escape sequences included. Its output is the
         # notebook's, read from IOPub.
         kw = {**kw, "stdin": subprocess.DEVNULL, "stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
-        if self.forked:
-            try:
-                await self._launch_forked(kernel_cmd, **kw)
-                fork_server.succeeded()
-                return
-            except Exception as exc:  # noqa: BLE001 - the kernel starts fresh instead
-                kill_and_reap(self._sandbox_processes())
-                self.pid_namespace = None  # that sandbox's: the fresh kernel's is another
-                fork_server.failed(f"it could not be forked from the template ({exc})")
-                self.forked = False
-                kernel_cmd = self.format_kernel_cmd(kw.get("extra_arguments"))
+        if not self.forked:
+            await self._launch_fresh(kw, kernel_cmd)
+            return
+        try:
+            await self._launch_sandbox_for_fork(kernel_cmd, kw)
+        except Exception as exc:  # noqa: BLE001 - the kernel starts fresh instead
+            await self._launch_fresh_instead(exc, kw)
+            return
+        if not defer_fork:
+            await self._async_complete_launch()
+
+    _launch_kernel = run_sync(_async_launch_kernel)
+
+    async def _launch_fresh(self, kw: dict, kernel_cmd: list[str] | None = None) -> None:
+        kernel_cmd = kernel_cmd or self.format_kernel_cmd(kw.get("extra_arguments"))
         await super()._async_launch_kernel(kernel_cmd, **kw)
         # Remember the launcher with its start time: once jupyter_client has
         # reaped it, its pid may go to any process on the host.
         self.launcher = process(self.provisioner.pid)
 
-    async def _launch_forked(self, kernel_cmd: list[str], **kw) -> None:
-        """Launch the sandbox with the waiter as its pid 1, and have the template fork the kernel into it."""
+    async def _launch_fresh_instead(self, exc: Exception, kw: dict) -> None:
+        """After a failed fork: kill the half-built sandbox, say why, and start the kernel fresh."""
+        kill_and_reap(self._sandbox_processes())
+        self.pid_namespace = None  # that sandbox's: the fresh kernel's is another
+        fork_server.failed(f"it could not be forked from the template ({exc})")
+        self.forked = False
+        await self._launch_fresh(kw)
+
+    async def _launch_sandbox_for_fork(self, kernel_cmd: list[str], kw: dict) -> None:
+        """Launch the sandbox with the waiter as its pid 1; :meth:`complete_launch` forks the kernel into it."""
         to_waiter, waiter_reads = os.pipe()[::-1]
         try:
             await super()._async_launch_kernel(kernel_cmd, **{**kw, "stdin": waiter_reads, "stdout": subprocess.PIPE})
+        except BaseException:
+            os.close(to_waiter)
+            raise
         finally:
             os.close(waiter_reads)
-        with os.fdopen(to_waiter, "wb") as to_waiter:
-            self.launcher = process(self.provisioner.pid)
-            # what a fresh kernel would be started with, less the interpreter and the launcher module
-            arguments = super().format_kernel_cmd(kw.get("extra_arguments"))[len(_KERNEL_LAUNCHER):]
-            await self._enter_waiter(self.provisioner.process.stdout, to_waiter, arguments)
+        self.launcher = process(self.provisioner.pid)
+        self._pending_fork = (self.provisioner.process.stdout, os.fdopen(to_waiter, "wb"), kw)
+
+    async def _async_complete_launch(self) -> None:
+        """Fork the kernel into the sandbox a deferred launch built (nothing to do otherwise)."""
+        pending, self._pending_fork = self._pending_fork, None
+        if pending is None:
+            return
+        from_waiter, to_waiter, kw = pending
+        try:
+            with from_waiter, to_waiter:
+                # what a fresh kernel would be started with, less the interpreter and the launcher module
+                arguments = super().format_kernel_cmd(kw.get("extra_arguments"))[len(_KERNEL_LAUNCHER):]
+                await self._enter_waiter(from_waiter, to_waiter, arguments)
+        except Exception as exc:  # noqa: BLE001 - the kernel starts fresh instead
+            await self._launch_fresh_instead(exc, kw)
+            return
+        fork_server.succeeded()
+
+    complete_launch = run_sync(_async_complete_launch)
 
     async def _enter_waiter(self, from_waiter, to_waiter, arguments: list[str]) -> None:
         # The waiter's first byte: bubblewrap has built the sandbox and handed it the waiter.
-        with from_waiter:
-            ready = select.select([from_waiter], [], [], _SOCKETS_TIMEOUT)[0]
-            if not ready or os.read(from_waiter.fileno(), 1) != b"r":
-                raise RuntimeError("the sandbox's waiter did not start")
+        ready = select.select([from_waiter], [], [], _SOCKETS_TIMEOUT)[0]
+        if not ready or os.read(from_waiter.fileno(), 1) != b"r":
+            raise RuntimeError("the sandbox's waiter did not start")
         found = self._first_in_sandbox()
         if found is None:
             raise RuntimeError("the sandbox's waiter is gone")
@@ -347,8 +385,6 @@ class SandboxedKernelManager(KernelManager):
         if inner is None or pid_namespace(kernel) != self.pid_namespace:
             raise RuntimeError("the forked kernel is gone")
         to_waiter.write(f"{inner}\n".encode())
-
-    _launch_kernel = run_sync(_async_launch_kernel)
 
     async def _async_post_start_kernel(self, **kw) -> None:
         await super()._async_post_start_kernel(**kw)
@@ -442,6 +478,9 @@ class SandboxedKernelManager(KernelManager):
         await self._async_cleanup_resources(restart=restart)
 
     async def _async_cleanup_resources(self, restart: bool = False) -> None:
+        if self._pending_fork is not None:  # a sandbox shut down before its kernel was forked
+            pending, self._pending_fork = self._pending_fork, None
+            pending[0].close(), pending[1].close()
         await super()._async_cleanup_resources(restart=restart)
         if not restart:
             shutil.rmtree(self.runtime_dir, ignore_errors=True)  # never follows a link planted in sockets/

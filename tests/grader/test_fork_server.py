@@ -119,6 +119,37 @@ def test_the_sandbox_ends_when_its_forked_kernel_exits(tmp_path):
         km.shutdown_kernel(now=True)
 
 
+def test_a_deferred_launch_builds_the_sandbox_and_forks_its_kernel_only_when_completed(tmp_path):
+    km = SandboxedKernelManager(SandboxSpec(workdir=tmp_path), runtime_root=tmp_path)
+    km.launch(defer_fork=True, cwd=str(tmp_path))
+    try:
+        assert km.forked
+        launcher = km.launcher.pid
+        deadline = time.monotonic() + 10
+        while km._first_in_sandbox() is None and time.monotonic() < deadline:
+            time.sleep(0.01)
+        # the waiter alone, waiting: no kernel yet
+        assert [p.pid for p in km._sandbox_processes()] == [launcher, km._first_in_sandbox()[0].pid]
+        km.finish_start()
+        assert km.forked and _run(km, "print(6 * 7)") == "42\n"
+        assert len(km._sandbox_processes()) == 3  # launcher (bwrap), its waiter, the kernel
+    finally:
+        km.shutdown_kernel(now=True)
+
+
+def test_a_sandbox_shut_down_before_its_kernel_is_forked_leaves_no_process_or_descriptor(tmp_path):
+    def descriptors():
+        return sorted(os.listdir("/proc/self/fd"))
+
+    before = descriptors()
+    km = SandboxedKernelManager(SandboxSpec(workdir=tmp_path), runtime_root=tmp_path)
+    km.launch(defer_fork=True, cwd=str(tmp_path))
+    assert len(descriptors()) > len(before)  # the waiter's pipes, held for complete_launch
+    km.shutdown_kernel(now=True)
+    assert km._sandbox_processes() == []
+    assert descriptors() == before
+
+
 def test_a_kernel_starts_fresh_with_a_warning_when_the_template_cannot_fork_one(tmp_path, monkeypatch, caplog):
     def broken(request):
         raise RuntimeError("no template today")

@@ -57,6 +57,7 @@ def test_each_unit_gets_a_new_sandbox_pre_started_for_it_alone(spec_of, prestart
     first = grade_unit(spec_of("ada"), readonly)
     spare = spare_sandbox()
     assert spare is not None and spare.km.is_alive()  # launched while ada's outputs were verified
+    assert spare.km._pending_fork is None  # its kernel was forked (if it is) before ada's result was returned
     second = grade_unit(spec_of("bob"), readonly)
     assert first["score"] == second["score"] == first["max_score"]
     (cwd1, ns1, _, seen1), (cwd2, ns2, _, seen2) = _probe(first), _probe(second)
