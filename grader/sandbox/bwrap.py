@@ -295,6 +295,9 @@ def sandbox_env(spec: SandboxSpec) -> dict[str, str]:
         "IPYTHONDIR": "/tmp/ipython",
         "XDG_CACHE_HOME": "/tmp/cache",
         "DEFORMLAB_NO_PLOTS": "1",
+        # what importing starter.plotting sets, so that a kernel that imported it before it
+        # started (forked from the template) has the environment of one that imports it later
+        "VTK_DEFAULT_OPENGL_WINDOW": "vtkEGLRenderWindow",
         "OMP_NUM_THREADS": "1",
         "OPENBLAS_NUM_THREADS": "1",
         "MKL_NUM_THREADS": "1",

@@ -1,8 +1,8 @@
 """The kernel template: imports an IPython kernel's libraries once, then forks one kernel per sandbox.
 
 Run by the grader as ``python kernel_template.py`` (never imported), on the
-host, with the sandbox's environment. It imports ipykernel, numpy, scipy and
-libigl, then serves requests, one JSON object per line on stdin, each answered
+host, with the sandbox's environment. It imports ipykernel, numpy, scipy,
+libigl and the course's ``starter`` package, then serves requests, one JSON object per line on stdin, each answered
 by one line on stdout. It never runs student code and never holds any: a
 request names a sandbox that bubblewrap has already built (its pid 1, a waiter,
 see :mod:`grader.sandbox.fork_server`), and the forked child *enters* it.
@@ -62,11 +62,16 @@ import ipykernel.kernelapp  # noqa: E402
 import numpy  # noqa: E402
 import scipy.linalg  # noqa: E402
 import scipy.sparse  # noqa: E402
+import scipy.sparse.csgraph  # noqa: E402
 import scipy.sparse.linalg  # noqa: E402
 import scipy.spatial  # noqa: E402
+import starter  # noqa: E402
+import starter.posing  # noqa: E402
 
-# what every notebook imports, in memory before the first fork
-PRELOADED = (igl, ipykernel.kernelapp, numpy, scipy.linalg, scipy.sparse, scipy.sparse.linalg, scipy.spatial)
+# what the notebooks import, in memory before the first fork: the course's starter package too
+# (20 ms a unit; it draws nothing and imports neither pyvista nor matplotlib until asked to)
+PRELOADED = (igl, ipykernel.kernelapp, numpy, scipy.linalg, scipy.sparse, scipy.sparse.csgraph, scipy.sparse.linalg,
+             scipy.spatial, starter, starter.posing)
 # and what the kernel imports as it starts (a started kernel's modules less these)
 for _name in (
     "IPython.core.completerlib", "IPython.core.debugger", "IPython.core.logger", "IPython.core.oinspect",

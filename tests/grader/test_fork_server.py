@@ -38,7 +38,7 @@ print(json.dumps({
     # what each open descriptor is, without its inode: a pipe left over from the template would add one
     "descriptors": sorted(filter(None, map(target, os.listdir("/proc/self/fd")))),
     "grader_modules": sorted(m for m in sys.modules if m.split(".")[0] in ("grader", "reference", "benchmarks")),
-    "preloaded": [m in sys.modules for m in ("numpy", "scipy.sparse.linalg", "igl")],
+    "preloaded": [m in sys.modules for m in ("numpy", "scipy.sparse.linalg", "igl", "starter")],
     "random": __import__("random").random(),
     "numpy_random": __import__("numpy").random.rand(),
 }))
@@ -79,8 +79,8 @@ def test_a_forked_kernel_is_confined_exactly_as_a_fresh_one_and_starts_with_its_
     monkeypatch.setenv("DEFORMLAB_KERNEL_TEMPLATE", "off")
     fresh, inside_fresh = _probe(tmp_path, "fresh")
     assert forked and not fresh
-    assert inside_forked.pop("preloaded") == [True, True, True]
-    assert inside_fresh.pop("preloaded") == [False, False, False]
+    assert inside_forked.pop("preloaded") == [True, True, True, True]
+    assert inside_fresh.pop("preloaded") == [False, False, False, False]
     for inside in (inside_forked, inside_fresh):
         inside.pop("random"), inside.pop("numpy_random")
     # Both are out of the grader's session: bubblewrap's session is led by its own
