@@ -28,6 +28,7 @@ __all__ = [
     "as_float",
     "as_pair",
     "close",
+    "once_per_case",
     "verdict",
 ]
 
@@ -145,6 +146,18 @@ def close(a: np.ndarray, b: np.ndarray, tol: float, scale: float = 1.0) -> tuple
     worst = np.unravel_index(int(np.argmax(err)), err.shape)
     ok = float(err[worst]) <= tol * max(scale, 1.0)
     return ok, f"largest difference {float(err[worst]):.3g} at index {tuple(int(i) for i in worst)}"
+
+
+def once_per_case(case: Case, key: str, compute: Callable[[], Any]) -> Any:
+    """``compute()``, computed once per case and process and kept in ``case.context[key]``.
+
+    For what depends on the hidden case and the reference's output alone: the cases
+    are cached per process (``grader.checks.seeded_cases``), so every later student's
+    verification reuses it.
+    """
+    if key not in case.context:
+        case.context[key] = compute()
+    return case.context[key]
 
 
 def _close_sparse(a, b, tol: float, scale: float) -> tuple[bool, str]:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from grader.checks.base import Case, FunctionChecks, Ref, Step, as_array, as_float, as_matrix, close, max_abs, verdict
+from grader.checks.base import Case, FunctionChecks, Ref, Step, as_array, as_float, as_matrix, close, max_abs, once_per_case, verdict
 from grader.checks.shape_matching import random_rotation
 from starter.meshes import load_mesh
 
@@ -224,7 +224,7 @@ class TetArapRotationsChecks(FunctionChecks):
         want = as_array(expected, (len(T), 3, 3), "the reference's R")
         from grader.contract import reference_function
 
-        J = reference_function("deformation_gradients")(V, U, T)
+        J = once_per_case(case, "J", lambda: reference_function("deformation_gradients")(V, U, T))
         gram = np.linalg.norm(np.einsum("tji,tjk->tik", R, R) - np.eye(3), axis=(1, 2))
         det = np.linalg.det(R)
         rotation = bool(gram.max() <= ROTATION_TOL and np.all(np.abs(det - 1.0) <= ROTATION_TOL))
@@ -232,7 +232,7 @@ class TetArapRotationsChecks(FunctionChecks):
         if not rotation and np.any(det < 0):
             where += " has det R = -1: a reflection (flip the singular vector of the smallest singular value)"
         got_distance = np.sum((J - R) ** 2, axis=(1, 2))
-        best = np.sum((J - want) ** 2, axis=(1, 2))
+        best = once_per_case(case, "nearest distances", lambda: np.sum((J - want) ** 2, axis=(1, 2)))
         slack = ROTATION_TOL * (1.0 + np.sum(J**2, axis=(1, 2)))
         nearest = bool(np.all(got_distance <= best + slack))
         worst = int(np.argmax(got_distance - best))
@@ -324,7 +324,7 @@ def _arap_scenes(rng: np.random.Generator):
     return out
 
 
-def _global_step_verdicts(got, expected, V, T, handles, P, R) -> list:
+def _global_step_verdicts(case, got, expected, V, T, handles, P, R) -> list:
     """Handles exact, energy at the reference's minimum for ``R``, and the same minimizer; hints for common slips."""
     import types
 
@@ -334,9 +334,14 @@ def _global_step_verdicts(got, expected, V, T, handles, P, R) -> list:
     U = as_array(got, (len(V), 3), "U")
     want = as_array(expected, (len(V), 3), "the reference's U")
     energy = reference_function("tet_arap_energy")
-    J = reference_function("deformation_gradients")(V, want, T)
-    signed_volumes = reference_function("tet_volumes")(V, T)
-    scale = float(np.abs(signed_volumes) @ (np.sum(J**2, axis=(1, 2)) + 3.0))  # bounds the energy's terms, for roundoff
+    signed_volumes = once_per_case(case, "signed volumes", lambda: reference_function("tet_volumes")(V, T))
+
+    def reference_terms():
+        J = reference_function("deformation_gradients")(V, want, T)
+        scale = float(np.abs(signed_volumes) @ (np.sum(J**2, axis=(1, 2)) + 3.0))  # bounds the energy's terms, for roundoff
+        return scale, float(energy(V, want, T, R))
+
+    scale, minimum = once_per_case(case, "energy scale and minimum", reference_terms)
     same = positions_verdict("U is the unique minimizer", U, want, V, SOLVE_RTOL)
     if not same.passed:
         precompute, step = reference_function("tet_arap_precompute"), reference_function("tet_arap_global_step")
@@ -353,8 +358,7 @@ def _global_step_verdicts(got, expected, V, T, handles, P, R) -> list:
                 break
     return [
         handle_verdict(U, handles, P),
-        energy_verdict("minimal energy for the given rotations", float(energy(V, U, T, R)),
-                       float(energy(V, want, T, R)), scale, DIRECT_RTOL, at_most=True),
+        energy_verdict("minimal energy for the given rotations", float(energy(V, U, T, R)), minimum, scale, DIRECT_RTOL, at_most=True),
         same,
     ]
 
@@ -376,7 +380,7 @@ class TetArapPrecomputeChecks(FunctionChecks):
 
     def verify(self, case, got, expected):
         V, T, handles = case.args(0)
-        return _global_step_verdicts(got, expected, V, T, handles, case.context["P"], case.context["R"])
+        return _global_step_verdicts(case, got, expected, V, T, handles, case.context["P"], case.context["R"])
 
 
 class TetArapGlobalStepChecks(FunctionChecks):
@@ -393,4 +397,4 @@ class TetArapGlobalStepChecks(FunctionChecks):
     def verify(self, case, got, expected):
         V, T, handles = case.args(0)
         _, R, P = case.args(1)
-        return _global_step_verdicts(got, expected, V, T, handles, P, R)
+        return _global_step_verdicts(case, got, expected, V, T, handles, P, R)
