@@ -1,7 +1,9 @@
 """Cost per notebook of ``deformlab grade`` and where one notebook's wall time goes.
 
-A class of N students (default 5; ``DEFORMLAB_BENCH_SCALE_STUDENTS``) hands in the
-whole assignment, solved. It is graded by the process pool (workers = cores) and
+A class of N students (default 12; ``DEFORMLAB_BENCH_SCALE_STUDENTS``) hands in the
+whole assignment, solved. Twelve, so that the steady state below starts after each
+worker has met every notebook once (its first unit of a notebook computes the
+reference's outputs on that notebook's hidden cases: 2 s of CPU per worker in all). It is graded by the process pool (workers = cores) and
 by a local Dask cluster (``--scheduler local:<cores>``); each prints
 machine-core-seconds per notebook (wall × cores / notebooks, the issue's target:
 ≤ 0.5), the CPU seconds everything this benchmark started used per notebook
@@ -305,7 +307,7 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
 
 
 def main(students: int | None = None) -> dict:
-    students = students or int(os.environ.get("DEFORMLAB_BENCH_SCALE_STUDENTS", "5"))
+    students = students or int(os.environ.get("DEFORMLAB_BENCH_SCALE_STUDENTS", "12"))
     cores = os.cpu_count() or 1
     figures: dict = {"students": students, "cores": cores, "load average before": os.getloadavg()[0]}
     meter = _CpuMeter()
