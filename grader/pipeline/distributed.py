@@ -109,8 +109,13 @@ def connect(scheduler: str):
     except ImportError:
         raise ValueError('--scheduler needs Dask: pip install "deformlab[dask]" (with -c constraints.txt)') from None
     if n_local is not None:
+        import dask
+
         # One thread per worker process: a unit is one kernel; N processes grade N notebooks at once.
-        cluster = LocalCluster(n_workers=n_local, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None)
+        # No statistical profiler (it samples each worker's stack every 10 ms for a dashboard this
+        # cluster does not serve) and no GIL monitor: the workers inherit this configuration.
+        with dask.config.set({"distributed.worker.profile.enabled": False, "distributed.admin.system-monitor.gil.enabled": False}):
+            cluster = LocalCluster(n_workers=n_local, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None)
         return Client(cluster), cluster
     try:
         return Client(address, timeout="20s"), None
