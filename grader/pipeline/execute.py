@@ -253,6 +253,11 @@ def execute(
                     f"at most {options.max_processes} may run at once"
                 )
             notebook_chars = client.notebook_chars
+            if client.kc is not None:
+                # nbclient leaves open the channels of a client whose manager it was handed; their
+                # zmq context (an I/O thread's epoll and eventfds) then outlived every kernel life:
+                # 12 descriptors a unit, until select() failed past 1024 and forks fell back.
+                client.kc.stop_channels()
             try:
                 km.shutdown_kernel(now=True)
             except Exception:  # noqa: BLE001 - it is already gone

@@ -71,3 +71,16 @@ def test_the_notebook_wall_limit_stops_cells_that_each_stay_under_the_cell_timeo
                      ExecuteOptions(timeout=10, wall=3, memory_bytes=2 * 2**30))
     assert "wall-clock limit" in result.collection_failures["late"]
     assert result.seconds < 15
+
+
+def test_executing_notebook_after_notebook_leaves_no_descriptor_or_thread_behind(tmp_path):
+    # A grading worker runs thousands of units: what one kernel life opens must close with it.
+    import os
+    import threading
+
+    nb = notebook("import os\ndef bad(x):\n    os._exit(1)\ndef good(x):\n    return -x")  # two kernel lives each
+    counts = []
+    for k in range(4):
+        run(tmp_path / str(k), nb, ["bad", "good"])
+        counts.append((len(os.listdir("/proc/self/fd")), threading.active_count()))
+    assert counts[1] == counts[2] == counts[3], counts
