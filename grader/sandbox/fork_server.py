@@ -126,6 +126,17 @@ def _start(env: dict[str, str]) -> subprocess.Popen:
     return proc
 
 
+def readable(fd: int, timeout: float) -> bool:
+    """Whether ``fd`` has data (or EOF) within ``timeout`` seconds.
+
+    ``poll``, not ``select``: a grading process may hold descriptors past 1024, which
+    ``select`` refuses.
+    """
+    poller = select.poll()
+    poller.register(fd, select.POLLIN)
+    return bool(poller.poll(max(0.0, timeout) * 1000))
+
+
 def _read_line(proc: subprocess.Popen, timeout: float) -> dict | None:
     """One reply line of at most ``_MAX_REPLY`` bytes, or ``None`` on EOF, timeout or garbage."""
     fd = proc.stdout.fileno()
@@ -133,7 +144,7 @@ def _read_line(proc: subprocess.Popen, timeout: float) -> dict | None:
     data = b""
     while not data.endswith(b"\n") and len(data) <= _MAX_REPLY:
         left = deadline - time.monotonic()
-        if left <= 0 or not select.select([fd], [], [], left)[0]:
+        if left <= 0 or not readable(fd, left):
             return None
         chunk = os.read(fd, _MAX_REPLY + 1 - len(data))
         if not chunk:

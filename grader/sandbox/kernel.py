@@ -22,7 +22,6 @@ import functools
 import importlib.util
 import logging
 import os
-import select
 import shutil
 import subprocess
 import sys
@@ -363,8 +362,7 @@ class SandboxedKernelManager(KernelManager):
 
     async def _enter_waiter(self, from_waiter, to_waiter, arguments: list[str]) -> None:
         # The waiter's first byte: bubblewrap has built the sandbox and handed it the waiter.
-        ready = select.select([from_waiter], [], [], _SOCKETS_TIMEOUT)[0]
-        if not ready or os.read(from_waiter.fileno(), 1) != b"r":
+        if not fork_server.readable(from_waiter.fileno(), _SOCKETS_TIMEOUT) or os.read(from_waiter.fileno(), 1) != b"r":
             raise RuntimeError("the sandbox's waiter did not start")
         found = self._first_in_sandbox()
         if found is None:
