@@ -18,7 +18,7 @@ import functools
 import numpy as np
 
 from grader.checks.arap import DIRECT_RTOL, HANDLE_TOL, ITERATE_RTOL, axis_rotation, energy_scale, energy_verdict, local_global_energy_verdicts
-from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_pair, close, verdict
+from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_pair, close, once_per_case, verdict
 from grader.checks.meshes import clockwise, mixed_orientation, relabel, unsorted_order
 from grader.checks.rotations import rotation_verdicts
 from grader.checks.shape_matching import random_rotation, trace_verdict
@@ -221,21 +221,17 @@ def _transforms_verdict(name: str, T: np.ndarray, want: np.ndarray, rtol: float)
     return verdict(name, ok, f"{where} (handle, row, column)")
 
 
-def _global_step_verdicts(T_got, T_ref, V, F, W, clusters, R, fixed, fixed_transforms) -> list[Verdict]:
+def _global_step_verdicts(case, T_got, T_ref, V, F, W, clusters, R, fixed, fixed_transforms) -> list[Verdict]:
     """Fixed transforms, energy of ``T_got`` for ``R`` against the reference's minimum, and ``T_got`` against ``T_ref``."""
     m, d = W.shape[1], V.shape[1]
     T = _transforms(T_got, m, d)
     T_ref = _transforms(T_ref, m, d, "the reference's T")
+    minimum, scale = once_per_case(case, "energy minimum and scale",
+                                   lambda: (_energy(V, F, W, clusters, T_ref, R), _scale(V, F, W, T_ref)))
     return [
         _fixed_verdict(T, fixed, fixed_transforms),
-        energy_verdict(
-            "minimal energy for the given rotations",
-            _energy(V, F, W, clusters, T, R),
-            _energy(V, F, W, clusters, T_ref, R),
-            _scale(V, F, W, T_ref),
-            DIRECT_RTOL,
-            at_most=True,
-        ),
+        energy_verdict("minimal energy for the given rotations", _energy(V, F, W, clusters, T, R), minimum, scale,
+                       DIRECT_RTOL, at_most=True),
         _transforms_verdict("T is the unique minimizer", T, T_ref, SOLVE_RTOL),
     ]
 
@@ -340,7 +336,7 @@ class FastPrecomputeChecks(FunctionChecks):
 
     def verify(self, case, got, expected):
         V, F, W, clusters, fixed = case.args(0)
-        return _global_step_verdicts(got, expected, V, F, W, clusters, case.context["R"], fixed, case.context["X"])
+        return _global_step_verdicts(case, got, expected, V, F, W, clusters, case.context["R"], fixed, case.context["X"])
 
 
 def _affine(rng: np.random.Generator, m: int, d: int, spread: float) -> np.ndarray:
@@ -429,7 +425,7 @@ class FastGlobalStepChecks(FunctionChecks):
     def verify(self, case, got, expected):
         V, F, W, clusters, fixed = case.args(0)
         _, R, X = case.args(1)
-        return _global_step_verdicts(got, expected, V, F, W, clusters, R, fixed, X)
+        return _global_step_verdicts(case, got, expected, V, F, W, clusters, R, fixed, X)
 
 
 class FastSolveChecks(FunctionChecks):
@@ -472,14 +468,17 @@ class FastSolveChecks(FunctionChecks):
             energies_got = [as_float(e, f"energies[{k}]") for k, e in enumerate(energies_got)]
         energies = as_array(energies_got, (None,), "energies")
         T_ref, energies_ref = (as_array(x) for x in as_pair(expected, "the reference's (T, energies)"))
-        scale = _scale(V, F, W, T_ref)
-        # The rotations of the last iteration are the local step on the previous iterate.
-        if iterations == 1:
-            previous = _start(m, d, kwargs.get("T0"), fixed, X)
-        else:
-            data = reference("fast_precompute")(V, F, W, clusters, fixed)
-            previous = np.asarray(reference("fast_solve")(data, X, T0=kwargs.get("T0"), iterations=iterations - 1)[0])
-        R_last = _rotations(V, F, W, clusters, previous)
+
+        def reference_terms():
+            # The rotations of the last iteration are the local step on the previous iterate.
+            if iterations == 1:
+                previous = _start(m, d, kwargs.get("T0"), fixed, X)
+            else:
+                data = reference("fast_precompute")(V, F, W, clusters, fixed)
+                previous = np.asarray(reference("fast_solve")(data, X, T0=kwargs.get("T0"), iterations=iterations - 1)[0])
+            return _scale(V, F, W, T_ref), _rotations(V, F, W, clusters, previous)
+
+        scale, R_last = once_per_case(case, "energy scale and last rotations", reference_terms)
         fresh = _energy(V, F, W, clusters, T, _rotations(V, F, W, clusters, T))
 
         verdicts = [

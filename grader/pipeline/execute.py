@@ -224,7 +224,8 @@ def execute(
                             result.cell_failures[what] = error
                         replay.append(what)
                     else:
-                        cell = nbformat.from_dict({"cell_type": "code", "metadata": {}, "source": _collect_source(what, fixtures, outputs), "outputs": [], "execution_count": None})
+                        source = _collect_source(what, fixtures, outputs)
+                        cell = nbformat.from_dict({"cell_type": "code", "metadata": {}, "source": source, "outputs": [], "execution_count": None})
                         nb.cells.append(cell)  # nbclient stores results in place; the slot is removed below
                         try:
                             client.execute_cell(cell, len(nb.cells) - 1, store_history=False)
