@@ -3,8 +3,8 @@
 A class of N students (default 12; ``DEFORMLAB_BENCH_SCALE_STUDENTS``) hands in the
 whole assignment, solved. Twelve, so that the steady state below starts after each
 worker has met every notebook once (its first unit of a notebook computes the
-reference's outputs on that notebook's hidden cases: 2 s of CPU per worker in all). It is graded by the process pool (workers = cores) and
-by a local Dask cluster (``--scheduler local:<cores>``); each prints
+reference's outputs on that notebook's hidden cases: 2 s of CPU per worker in
+all). It is graded by the process pool (workers = cores) and by a local Dask cluster (``--scheduler local:<cores>``); each prints
 machine-core-seconds per notebook (wall × cores / notebooks, the issue's target:
 ≤ 0.5), the CPU seconds everything this benchmark started used per notebook
 (grader, workers and the sandboxed kernels), and how much of cores × wall that

@@ -36,7 +36,7 @@ import threading
 import time
 from pathlib import Path
 
-__all__ = ["WAITER", "enabled", "fork_kernel", "start_template", "stop_template", "disable", "failed", "succeeded"]
+__all__ = ["WAITER", "enabled", "fork_kernel", "start_template", "stop_template", "disable", "failed", "succeeded", "readable"]
 
 log = logging.getLogger(__name__)
 

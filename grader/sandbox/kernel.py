@@ -28,6 +28,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import BinaryIO, NamedTuple
 
 from queue import Empty
 
@@ -59,6 +60,14 @@ _SOCKETS_TIMEOUT = 60.0
 _READY_ATTEMPT = 1.0
 # How a fresh kernel is started; its arguments follow.
 _KERNEL_LAUNCHER = [sys.executable, "-m", "ipykernel_launcher"]
+
+
+class _PendingFork(NamedTuple):
+    """A sandbox launched for a kernel not yet forked into it (``launch(defer_fork=True)``)."""
+
+    from_waiter: BinaryIO  # the waiter's stdout: one byte once bubblewrap has built the sandbox
+    to_waiter: BinaryIO  # the waiter's stdin: the kernel's pid in the sandbox, once it is there
+    kw: dict  # the launch's options, for the kernel's arguments or a fresh start instead
 
 
 class SandboxedKernelClient(AsyncKernelClient):
@@ -150,8 +159,7 @@ class SandboxedKernelManager(KernelManager):
 
     process_limit: ProcessLimit | None = None
     launcher: Process | None = None
-    # a deferred launch's channel to its sandbox's waiter: (its stdout, its stdin, the launch's options)
-    _pending_fork: tuple | None = None
+    _pending_fork: _PendingFork | None = None  # a deferred launch's sandbox, waiting for its kernel
     namespace_cap: int | None = None  # RLIMIT_NPROC applied inside the sandbox, when no cgroup caps it
 
     client_class = DottedObjectName("grader.sandbox.kernel.SandboxedKernelClient", config=True)
@@ -340,21 +348,20 @@ class SandboxedKernelManager(KernelManager):
         finally:
             os.close(waiter_reads)
         self.launcher = process(self.provisioner.pid)
-        self._pending_fork = (self.provisioner.process.stdout, os.fdopen(to_waiter, "wb"), kw)
+        self._pending_fork = _PendingFork(self.provisioner.process.stdout, os.fdopen(to_waiter, "wb"), kw)
 
     async def _async_complete_launch(self) -> None:
         """Fork the kernel into the sandbox a deferred launch built (nothing to do otherwise)."""
         pending, self._pending_fork = self._pending_fork, None
         if pending is None:
             return
-        from_waiter, to_waiter, kw = pending
         try:
-            with from_waiter, to_waiter:
+            with pending.from_waiter, pending.to_waiter:
                 # what a fresh kernel would be started with, less the interpreter and the launcher module
-                arguments = super().format_kernel_cmd(kw.get("extra_arguments"))[len(_KERNEL_LAUNCHER):]
-                await self._enter_waiter(from_waiter, to_waiter, arguments)
+                arguments = super().format_kernel_cmd(pending.kw.get("extra_arguments"))[len(_KERNEL_LAUNCHER):]
+                await self._enter_waiter(pending.from_waiter, pending.to_waiter, arguments)
         except Exception as exc:  # noqa: BLE001 - the kernel starts fresh instead
-            await self._launch_fresh_instead(exc, kw)
+            await self._launch_fresh_instead(exc, pending.kw)
             return
         fork_server.succeeded()
 
@@ -477,8 +484,9 @@ class SandboxedKernelManager(KernelManager):
 
     async def _async_cleanup_resources(self, restart: bool = False) -> None:
         if self._pending_fork is not None:  # a sandbox shut down before its kernel was forked
-            pending, self._pending_fork = self._pending_fork, None
-            pending[0].close(), pending[1].close()
+            self._pending_fork.from_waiter.close()
+            self._pending_fork.to_waiter.close()
+            self._pending_fork = None
         await super()._async_cleanup_resources(restart=restart)
         if not restart:
             shutil.rmtree(self.runtime_dir, ignore_errors=True)  # never follows a link planted in sockets/
