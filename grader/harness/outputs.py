@@ -249,7 +249,7 @@ def read_outputs(function: str, directory: Path, n_cases: int, expected: list | 
     arrays = _Arrays(arrays_bytes)
     cases = []
     for i, rec in enumerate(records):
-        seconds = rec.get("seconds") if isinstance(rec.get("seconds"), (int, float)) and not isinstance(rec.get("seconds"), bool) else None
+        seconds = _non_negative(rec.get("seconds"))
         if rec.get("ok") is not True:
             cases.append(CaseOutput(None, str(rec.get("error", "failed"))[:2000], seconds))
             continue
@@ -258,5 +258,12 @@ def read_outputs(function: str, directory: Path, n_cases: int, expected: list | 
             cases.append(CaseOutput(_rebuild(rec.get("output"), f"c{i}", arrays, budget), None, seconds))
         except (OutputError, KeyError, ValueError, TypeError, OSError, zipfile.BadZipFile) as exc:
             cases.append(CaseOutput(None, f"output could not be read: {exc}", seconds))
-    peak = int(peak) if isinstance(peak, (int, float)) and not isinstance(peak, bool) and math.isfinite(peak) else None
-    return Collected(function, cases, peak)
+    peak = _non_negative(peak)
+    return Collected(function, cases, None if peak is None else int(peak))
+
+
+def _non_negative(value: Any) -> float | None:
+    """A time or size the kernel reports, if it is a finite number ≥ 0 (JSON also carries NaN and infinities)."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value >= 0:
+        return float(value)
+    return None
