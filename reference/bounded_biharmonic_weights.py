@@ -7,7 +7,7 @@ import scipy.sparse.linalg as spla
 
 from reference.arap import cotangent_laplacian
 from reference.box_qp import box_qp
-from reference.tetrahedra import as_tet_mesh, tet_biharmonic_matrix
+from reference.tetrahedra import _tet_biharmonic_matrix, as_tet_mesh
 from starter.validation import (
     component_without,
     as_faces,
@@ -65,9 +65,13 @@ def biharmonic_matrix(V, F):
     Q : (n, n) scipy.sparse.csc_matrix
         Symmetric positive semi-definite; constants are in its null space.
     """
-    V, F = as_cells(V, F)
+    return _biharmonic_matrix(*as_cells(V, F))
+
+
+def _biharmonic_matrix(V, F):
+    """``biharmonic_matrix`` of a mesh already checked by ``as_cells``."""
     if F.shape[1] == 4:
-        return sp.csc_matrix(tet_biharmonic_matrix(V, F))
+        return sp.csc_matrix(_tet_biharmonic_matrix(V, F))
     i = unreferenced_vertex(F, len(V))
     if i is not None:
         # an unreferenced vertex has zero mass, so M⁻¹ does not exist
@@ -195,7 +199,7 @@ def unconstrained_biharmonic_weights(V, F, b, bc):
             f"bc must have shape ({len(b)}, m) with m >= 1: one row per vertex in b "
             f"and one column per weight function, got {bc.shape}"
         )
-    Q = biharmonic_matrix(V, F)
+    Q = _biharmonic_matrix(V, F)
     n = len(V)
     i = component_without(F, n, b)
     if i is not None:
@@ -265,7 +269,7 @@ def bbw(V, F, b, bc):
     if (bc.sum(axis=1) <= 0).any():
         i = int(np.flatnonzero(bc.sum(axis=1) <= 0)[0])
         raise ValueError(f"bc must have rows with a positive sum (they are normalized), row {i} is all zeros")
-    Q = biharmonic_matrix(V, F)
+    Q = _biharmonic_matrix(V, F)
     n, m = len(V), bc.shape[1]
     i = component_without(F, n, b)
     if i is not None:

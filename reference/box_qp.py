@@ -4,18 +4,31 @@ import numpy as np
 import scipy
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from threadpoolctl import threadpool_limits
 
 from starter.validation import as_float_array
 
-# ADMM's penalty ρ relative to √(λ_min λ_max) of H, its over-relaxation and
-# its number of steps (see _admm_active_sets). Worst / geometric-mean CPU
-# ratio to igl.bbw on the BBW benchmark family with 20, 30, 40, 60 steps:
-# 0.88 / 0.47, 0.93 / 0.47, 0.79 / 0.44, 0.85 / 0.42 (the tetrahedral hand
-# wants fewer, the character with bones more); penalty 0.05: 1.05 / 0.47.
-# The previous start (out-of-box regions shrunk by 6 rings): 1.12 / 0.65.
-ADMM_PENALTY = 0.02
+# The constants below were chosen on the BBW benchmark family (CPU time
+# against igl.bbw, worst member / geometric mean, 3 alternating runs each):
+# - ADMM's penalty ρ relative to √(λ_min λ_max) of H, its over-relaxation and
+#   its number of steps (see _admm_active_sets), with ADMM_NEAR_BOUND 0.3:
+#   penalty 0.02 and 40 steps 0.53 / 0.35, 25 steps 0.56 / 0.36; penalty
+#   0.01 and 25 steps 0.56 / 0.37, and with ADMM_NEAR_BOUND 0.1 0.50 / 0.35.
+#   The tetrahedral hand wants fewer steps, the character with bones more.
+# - ADMM_NEAR_BOUND: ADMM's iterate within this fraction of its last step of a
+#   bound starts the active-set steps at that bound. An absolute 1e-3 cost
+#   the character with regions twice the steps (0.95); 0 cost the hand 18
+#   factorizations instead of 9.
+# - BORDER_BUDGET: how many variables may border a factored free block
+#   (_FreeBlockSolver) before the next block is factored anew, in units of
+#   Σ cc² / Σ cc (cc the column counts of the block's factor, whose
+#   factorization costs about Σ cc² flops and a solve 4 Σ cc). 2: 0.61 / 0.39
+#   (the character with bones pays for the solves); 0 (always factor): 0.82.
+ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
-ADMM_STEPS = 40
+ADMM_STEPS = 25
+ADMM_NEAR_BOUND = 0.1
+BORDER_BUDGET = 1.0
 
 # SymmetricMode with diagonal pivots: H is symmetric positive definite, and
 # SuperLU factors it far faster this way than with partial pivoting
@@ -59,12 +72,15 @@ def box_qp(H, G, tol=1e-9):
     ``H`` gives the Schur complement K of ``H`` onto C, and every step is a
     small dense solve on C; if the solution then leaves the box outside C, C
     grows and the solve repeats. When C is large, the iterations start from
-    the bounds that a few ADMM steps touch (Boyd et al. 2011, one
-    factorization of ``H + ρI`` for all columns), every step
-    factors the free block of ``H`` in the fill-reducing order of ``H``,
-    computed once, and the iterations stop as soon as the KKT conditions hold
-    to ``tol``: the last steps of an exact active-set solver only move
-    variables within 1e-7 of a bound.
+    the bounds that a few ADMM steps touch or nearly touch (Boyd et al. 2011,
+    one factorization of ``H + ρI`` for all columns). The free blocks of ``H``
+    keep the fill-reducing order of ``H``, computed once; a step whose free
+    block differs from the last factored one by a few variables borders that
+    factorization instead of factoring anew (a Schur-complement update). A
+    variable is released from its bound only when its multiplier is wrong by
+    more than half of ``tol``, and the iterations stop as soon as the KKT
+    conditions hold to ``tol``: the last steps of an exact active-set solver
+    only move variables within 1e-7 of a bound.
     """
     if sp.issparse(H):
         H = sp.csc_matrix(H, dtype=np.float64)
@@ -83,7 +99,11 @@ def box_qp(H, G, tol=1e-9):
     asymmetry = abs(H - H.T).max() if H.nnz else 0.0
     if asymmetry > 1e-12 * abs(H).max():
         raise ValueError(f"H must be symmetric, max |H - Hᵀ| is {asymmetry:.3g}")
-    X = _solve(H, G.reshape(len(G), -1), tol)
+    # OpenBLAS's threads only slow the small dense products and solves here
+    # down (bbw on the tetrahedral hand, 2 cores: 0.36 s wall with them, 0.10
+    # s without)
+    with threadpool_limits(limits=1, user_api="blas"):
+        X = _solve(H, G.reshape(len(G), -1), tol)
     return X.reshape(G.shape)
 
 
@@ -120,18 +140,22 @@ def _solve(H, G, tol):
         # a dense step costs up to |C|³/3 flops but runs them ~30x faster
         # than SuperLU: go dense when that beats a sparse factorization
         if float(grown.sum()) ** 3 >= 100 * sparse_flops:
-            at_lower, at_upper = _admm_active_sets(H, G, X_unconstrained, lu, scale)
             # every free block keeps lu's fill-reducing order (lu.perm_c[i] is
             # the position of variable i): a good order for the block too, so
-            # SuperLU skips its own ordering; H is permuted once
+            # SuperLU skips its own ordering; H is permuted once, and ADMM
+            # works in that order too
             order = np.argsort(lu.perm_c)
             H_ordered = H[order][:, order].tocsc()
             H_ordered.sort_indices()
+            G_ordered = G[order]
+            at_lower, at_upper = _admm_active_sets(
+                H_ordered, G_ordered, X_unconstrained[order], _admm_penalty(H, lu, scale),
+            )
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
             X = np.empty((n, m))
             for j in range(m):
                 X[order, j] = _sparse_active_set(
-                    H_ordered, columns, G[order, j], at_lower[order, j], at_upper[order, j], tol * scale,
+                    H_ordered, columns, G_ordered[:, j], at_lower[:, j], at_upper[:, j], tol * scale,
                 )
             return X
         # Order C last, the rest in lu's fill-reducing order (lu.perm_c[i] is
@@ -167,19 +191,8 @@ def _solve(H, G, tol):
         X[at_upper] = 1.0
 
 
-def _admm_active_sets(H, G, X_unconstrained, lu, scale):
-    """Predict the active sets of every column with a few ADMM steps.
-
-    ADMM on the splitting ``x = z``, ``z`` in the box: each step is one solve
-    with ``H + ρI``, factored once for all columns, then a clip. Its iterate
-    is not accurate, but the bounds it touches are close to the final active
-    sets, which PDAS started from the unconstrained minimizer's out-of-box
-    regions reaches only a stencil ring per step. ``G`` and
-    ``X_unconstrained`` are ``(n, m)``, ``lu`` factors ``H`` and ``scale``
-    bounds its largest eigenvalue; returns ``(at_lower, at_upper)``, ``(n,
-    m)`` bool.
-    """
-    n = H.shape[0]
+def _admm_penalty(H, lu, scale):
+    """ADMM's penalty ρ for ``H`` ``(n, n)``, factored by ``lu``, its largest eigenvalue at most ``scale``."""
     # √(λ_min λ_max) is ADMM's optimal penalty on strongly convex quadratics
     # (Ghadimi et al. 2015), and scaling by it suits triangles and tetrahedra
     # alike. Only the bounds matter here, and a fraction of it finds them in
@@ -187,19 +200,38 @@ def _admm_active_sets(H, G, X_unconstrained, lu, scale):
     # √(λ_min λ_max) left 42 active-set factorizations, ρ ≈ 0.06 √(λ_min
     # λ_max) 26 (and see ADMM_PENALTY).
     # A few inverse iterations estimate λ_min.
-    v = np.linspace(1.0, 2.0, n)
+    v = np.linspace(1.0, 2.0, H.shape[0])
     for _ in range(6):
         v = lu.solve(v)
         v /= np.linalg.norm(v)
-    rho = ADMM_PENALTY * float(np.sqrt(max(v @ (H @ v), 0.0) * scale))
-    lu = _factor((H + rho * sp.identity(n, format="csc")).tocsc(), "MMD_AT_PLUS_A")
+    return ADMM_PENALTY * float(np.sqrt(max(v @ (H @ v), 0.0) * scale))
+
+
+def _admm_active_sets(H, G, X_unconstrained, rho):
+    """Predict the active sets of every column with a few ADMM steps.
+
+    ADMM on the splitting ``x = z``, ``z`` in the box: each step is one solve
+    with ``H + ρI``, factored once for all columns, then a clip. Its iterate
+    is not accurate, but the bounds it touches are close to the final active
+    sets, which PDAS started from the unconstrained minimizer's out-of-box
+    regions reaches only a stencil ring per step. ``H`` is CSC in a
+    fill-reducing order, ``G`` and ``X_unconstrained`` are ``(n, m)``;
+    returns ``(at_lower, at_upper)``, ``(n, m)`` bool.
+    """
+    lu = _factor((H + rho * sp.identity(H.shape[0], format="csc")).tocsc(), "NATURAL")
     Z = np.clip(X_unconstrained, 0.0, 1.0)
+    Z_last = Z
     U = X_unconstrained - Z
     for _ in range(ADMM_STEPS):
         X = ADMM_RELAXATION * lu.solve(G + rho * (Z - U)) + (1.0 - ADMM_RELAXATION) * Z
-        Z = np.clip(X + U, 0.0, 1.0)
+        Z, Z_last = np.clip(X + U, 0.0, 1.0), Z
         U += X - Z
-    return Z <= 0.0, Z >= 1.0
+    # Skinning weights vanish on whole regions, where ADMM's iterate is still
+    # slightly positive: started free, those variables would enter every free
+    # block. Started at the bound, the few that belong inside are released.
+    # "Slightly" is relative to how far ADMM still moves (its last step).
+    near = ADMM_NEAR_BOUND * np.abs(Z - Z_last).max(axis=0)
+    return Z <= near, Z >= 1.0 - near
 
 
 def _next_active_sets(lower, upper, below, above, release, seen, murty):
@@ -277,6 +309,94 @@ def _principal_submatrix(A, columns, keep):
     return sp.csc_matrix((A.data[entries], renumber[A.indices[entries]], indptr), shape=(k, k))
 
 
+class _FreeBlockSolver:
+    """Solve ``H[F, F] x = r`` for a free set ``F`` that changes a little from one step to the next.
+
+    One sparse factorization of a base block ``H[F0, F0]`` serves every
+    later ``F`` close to ``F0``: the variables added to it (``A = F \\ F0``)
+    and removed from it (``R = F0 \\ F``) border that block,
+
+        [ H00   H0A  E_R ] [x0]   [r0]
+        [ HA0   HAA   0  ] [xA] = [rA]
+        [ E_Rᵀ   0    0  ] [λ ]   [0 ]
+
+    (``E_R`` the columns of the identity at ``R``, so ``x0`` is zero there),
+    and eliminating ``x0`` leaves a dense system of ``|A| + |R|`` unknowns
+    (the Schur-complement update of Gill, Murray, Saunders and Wright). Each
+    bordering variable costs one solve with the base factor, once. When
+    ``|A| + |R|`` passes the cost of a new factorization in such solves, ``F``
+    becomes the new base.
+
+    ``H`` is CSC with sorted indices in the order every block keeps and
+    ``columns`` the column of each stored entry (see ``_principal_submatrix``).
+    """
+
+    def __init__(self, H, columns):
+        self.H = H
+        self.columns = columns
+        self.base = None
+
+    def solve(self, free, r):
+        """``x[free]`` for ``H[free, free] x[free] = r[free]``; ``free`` ``(n,)`` bool, ``r`` ``(n,)``."""
+        if self.base is not None:
+            added = np.flatnonzero(free & ~self.base)
+            removed = np.flatnonzero(self.base & ~free)
+            if added.size + removed.size <= self.budget:
+                return self._bordered(free, r, added, removed)
+        self._refactor(free)
+        return self.lu.solve(r[free])
+
+    def _refactor(self, free):
+        self.lu = _factor(_principal_submatrix(self.H, self.columns, free), "NATURAL")
+        self.base = free.copy()
+        self.position = np.cumsum(free) - 1  # of each base variable in the block
+        # every variable that has bordered this block: its column b of
+        # [H0A E_R] in B, H00⁻¹ b in Y, and the products bᵢᵀ yⱼ in BY, all by slot
+        self.slot = np.full(len(free), -1)
+        size = int(self.position[-1]) + 1
+        self.B, self.Y, self.BY = np.empty((size, 0)), np.empty((size, 0)), np.empty((0, 0))
+        # a factorization costs about Σ (column count)² flops, a solve about
+        # 4 Σ column count (see BORDER_BUDGET)
+        column_counts = np.diff(self.lu.L.indptr).astype(np.float64)
+        self.budget = BORDER_BUDGET * float((column_counts**2).sum()) / float(column_counts.sum())
+
+    def _border(self, variables):
+        """Give ``variables`` (``(q,)`` int, none with a slot yet) their slots."""
+        B = np.zeros((self.B.shape[0], len(variables)))
+        for k, v in enumerate(variables):
+            if self.base[v]:
+                B[self.position[v], k] = 1.0
+            else:
+                entries = slice(self.H.indptr[v], self.H.indptr[v + 1])
+                on_base = self.base[self.H.indices[entries]]
+                B[self.position[self.H.indices[entries][on_base]], k] = self.H.data[entries][on_base]
+        Y = self.lu.solve(B)
+        self.BY = np.block([[self.BY, self.B.T @ Y], [B.T @ self.Y, B.T @ Y]])
+        self.slot[variables] = self.B.shape[1] + np.arange(len(variables))
+        self.B, self.Y = np.hstack([self.B, B]), np.hstack([self.Y, Y])
+
+    def _bordered(self, free, r, added, removed):
+        z = self.lu.solve(r[self.base])
+        x = np.zeros(len(free))
+        if added.size + removed.size:
+            both = np.concatenate([added, removed])
+            new = both[self.slot[both] < 0]
+            if new.size:
+                self._border(new)
+            slots = self.slot[both]
+            k = added.size
+            S = -self.BY[np.ix_(slots, slots)]
+            S[:k, :k] += self.H[:, added][added].toarray()
+            right = -(z @ self.B)[slots]
+            right[:k] += r[added]
+            u = np.zeros(self.B.shape[1])
+            u[slots] = scipy.linalg.solve(S, right, check_finite=False)
+            z -= self.Y @ u
+            x[added] = u[slots[:k]]
+        x[self.base] = z
+        return x[free]
+
+
 def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
     """Minimize ``½ xᵀ H x - gᵀ x`` over ``0 ≤ x ≤ 1`` to KKT residual ``tol_kkt``; ``H`` sparse SPD.
 
@@ -290,19 +410,29 @@ def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
     n = len(g)
     max_iter = 100 + 5 * n
     seen, murty = set(), False
+    blocks = _FreeBlockSolver(H, columns)
+    # A multiplier within this of zero is left alone: such a variable costs at
+    # most half the tolerance where it is, and releasing it on the sign of
+    # roundoff (a weight's zero region is degenerate: its gradient there is 0)
+    # makes the free set chatter.
+    tol_release = 0.5 * tol_kkt
     for _ in range(max_iter):
         free = ~(lower | upper)
         x = upper.astype(np.float64)
         if free.any():
             # H[free, upper] 1 is (H 1_upper)[free]
-            rhs = (g - H @ x)[free]
-            x[free] = _factor(_principal_submatrix(H, columns, free), "NATURAL").solve(rhs)
+            x[free] = blocks.solve(free, g - H @ x)
         gradient = H @ x - g
+        if free.any() and np.abs(gradient[free]).max() > 0.1 * tol_kkt and not np.array_equal(blocks.base, free):
+            # the bordered solve lost accuracy: factor this block itself
+            blocks.base = None
+            x[free] = blocks.solve(free, g - H @ upper.astype(np.float64))
+            gradient = H @ x - g
         below = free & (x < 0)
         above = free & (x > 1)
-        release = (lower & (gradient < 0)) | (upper & (gradient > 0))
+        release = (lower & (gradient < -tol_release)) | (upper & (gradient > tol_release))
         if not (below | above | release).any():
-            return x  # the exact minimizer
+            return np.clip(x, 0.0, 1.0)  # the minimizer, to the tolerance
         clipped = np.clip(x, 0.0, 1.0)
         if below.any() or above.any():
             gradient = H @ clipped - g

@@ -254,7 +254,10 @@ def tet_biharmonic_matrix(V, T):
     Q : (n, n) scipy.sparse.csr_matrix
         Symmetric positive semi-definite; constants are in its null space.
     """
-    V, T = as_tet_mesh(V, T)
+    return _tet_biharmonic_matrix(*as_tet_mesh(V, T))
+
+
+def _tet_biharmonic_matrix(V, T):
     i = unreferenced_vertex(T, len(V))
     if i is not None:
         # an unreferenced vertex has zero mass, so M⁻¹ does not exist
