@@ -22,13 +22,15 @@ from starter.validation import as_float_array
 # - BORDER_BUDGET: how many variables may border a factored free block
 #   (_FreeBlockSolver) before the next block is factored anew, in units of
 #   Σ cc² / Σ cc (cc the column counts of the block's factor, whose
-#   factorization costs about Σ cc² flops and a solve 4 Σ cc). 2: 0.61 / 0.39
-#   (the character with bones pays for the solves); 0 (always factor): 0.82.
+#   factorization costs about Σ cc² flops and a solve 4 Σ cc). 0.5: 0.45 /
+#   0.33, 0.7: 0.46 / 0.34, 1: 0.47 / 0.34 (the same within this machine's
+#   noise); 2: 0.61 / 0.39 (the character with bones pays for the solves); 0
+#   (always factor): the hand alone 0.82.
 ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
 ADMM_NEAR_BOUND = 0.1
-BORDER_BUDGET = 1.0
+BORDER_BUDGET = 0.5
 
 # SymmetricMode with diagonal pivots: H is symmetric positive definite, and
 # SuperLU factors it far faster this way than with partial pivoting
@@ -344,39 +346,56 @@ class _FreeBlockSolver:
             if added.size + removed.size <= self.budget:
                 return self._bordered(free, r, added, removed)
         self._refactor(free)
-        return self.lu.solve(r[free])
+        return self._base_solve(r)
 
     def _refactor(self, free):
         self.lu = _factor(_principal_submatrix(self.H, self.columns, free), "NATURAL")
         self.base = free.copy()
         self.position = np.cumsum(free) - 1  # of each base variable in the block
-        # every variable that has bordered this block: its column b of
-        # [H0A E_R] in B, H00⁻¹ b in Y, and the products bᵢᵀ yⱼ in BY, all by slot
-        self.slot = np.full(len(free), -1)
-        size = int(self.position[-1]) + 1
-        self.B, self.Y, self.BY = np.empty((size, 0)), np.empty((size, 0)), np.empty((0, 0))
         # a factorization costs about Σ (column count)² flops, a solve about
         # 4 Σ column count (see BORDER_BUDGET)
         column_counts = np.diff(self.lu.L.indptr).astype(np.float64)
         self.budget = BORDER_BUDGET * float((column_counts**2).sum()) / float(column_counts.sum())
+        # every variable that has bordered this block has a slot: its column
+        # b of [H0A E_R] in B, H00⁻¹ b in Y, and the products bᵢᵀ yⱼ in BY
+        self.slot = np.full(len(free), -1)
+        self.used = 0
+        self.r_solved = None
+        self._allocate(int(self.budget) + 8)
+
+    def _allocate(self, slots):
+        size, used = int(self.position[-1]) + 1, self.used
+        B, Y, BY = np.zeros((size, slots)), np.zeros((size, slots)), np.zeros((slots, slots))
+        if used:
+            B[:, :used], Y[:, :used], BY[:used, :used] = self.B[:, :used], self.Y[:, :used], self.BY[:used, :used]
+        self.B, self.Y, self.BY = B, Y, BY
 
     def _border(self, variables):
         """Give ``variables`` (``(q,)`` int, none with a slot yet) their slots."""
-        B = np.zeros((self.B.shape[0], len(variables)))
-        for k, v in enumerate(variables):
-            if self.base[v]:
-                B[self.position[v], k] = 1.0
-            else:
-                entries = slice(self.H.indptr[v], self.H.indptr[v + 1])
-                on_base = self.base[self.H.indices[entries]]
-                B[self.position[self.H.indices[entries][on_base]], k] = self.H.data[entries][on_base]
-        Y = self.lu.solve(B)
-        self.BY = np.block([[self.BY, self.B.T @ Y], [B.T @ self.Y, B.T @ Y]])
-        self.slot[variables] = self.B.shape[1] + np.arange(len(variables))
-        self.B, self.Y = np.hstack([self.B, B]), np.hstack([self.Y, Y])
+        q, used = len(variables), self.used
+        if used + q > self.B.shape[1]:
+            self._allocate(2 * (used + q))
+        B = self.B[:, used:used + q]
+        on_base = self.base[variables]
+        B[self.position[variables[on_base]], np.flatnonzero(on_base)] = 1.0
+        rows, k, values = _stored_entries(self.H, variables[~on_base])
+        inside = self.base[rows]
+        B[self.position[rows[inside]], np.flatnonzero(~on_base)[k[inside]]] = values[inside]
+        self.Y[:, used:used + q] = self.lu.solve(B)
+        self.BY[:used + q, used:used + q] = self.B[:, :used + q].T @ self.Y[:, used:used + q]
+        self.BY[used:used + q, :used] = self.BY[:used, used:used + q].T
+        self.slot[variables] = used + np.arange(q)
+        self.used = used + q
+
+    def _base_solve(self, r):
+        """``H00⁻¹ r[base]``, kept: ``r`` on the base changes only with the upper set, seldom."""
+        r = r[self.base]
+        if not np.array_equal(r, self.r_solved):
+            self.r_solved, self.z_solved = r, self.lu.solve(r)
+        return self.z_solved.copy()
 
     def _bordered(self, free, r, added, removed):
-        z = self.lu.solve(r[self.base])
+        z = self._base_solve(r)
         x = np.zeros(len(free))
         if added.size + removed.size:
             both = np.concatenate([added, removed])
@@ -386,15 +405,30 @@ class _FreeBlockSolver:
             slots = self.slot[both]
             k = added.size
             S = -self.BY[np.ix_(slots, slots)]
-            S[:k, :k] += self.H[:, added][added].toarray()
-            right = -(z @ self.B)[slots]
+            # H[added][:, added]: the stored entries of those columns in those rows
+            rows, column, values = _stored_entries(self.H, added)
+            among = np.full(len(free), -1)
+            among[added] = np.arange(k)
+            inside = among[rows] >= 0
+            np.add.at(S, (among[rows[inside]], column[inside]), values[inside])
+            used = self.used
+            right = -(z @ self.B[:, :used])[slots]
             right[:k] += r[added]
-            u = np.zeros(self.B.shape[1])
+            u = np.zeros(used)
             u[slots] = scipy.linalg.solve(S, right, check_finite=False)
-            z -= self.Y @ u
+            z -= self.Y[:, :used] @ u
             x[added] = u[slots[:k]]
         x[self.base] = z
         return x[free]
+
+
+def _stored_entries(H, variables):
+    """The stored entries of ``H``'s columns ``variables`` (CSC): ``(rows, k, values)``, ``k`` the position in ``variables``."""
+    starts, stops = H.indptr[variables], H.indptr[variables + 1]
+    counts = stops - starts
+    k = np.repeat(np.arange(len(variables)), counts)
+    entries = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts) + np.repeat(starts, counts)
+    return H.indices[entries], k, H.data[entries]
 
 
 def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
