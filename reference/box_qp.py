@@ -458,7 +458,8 @@ def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
             x[free] = blocks.solve(free, g - H @ x)
         gradient = H @ x - g
         if free.any() and np.abs(gradient[free]).max() > 0.1 * tol_kkt and not np.array_equal(blocks.base, free):
-            # the bordered solve lost accuracy: factor this block itself
+            # the bordered solve lost accuracy (a direct solve leaves the free
+            # gradient far below a tenth of the tolerance): factor the block
             blocks.base = None
             x[free] = blocks.solve(free, g - H @ upper.astype(np.float64))
             gradient = H @ x - g
