@@ -345,6 +345,10 @@ class _FreeBlockSolver:
             removed = np.flatnonzero(self.base & ~free)
             if added.size + removed.size <= self.budget:
                 return self._bordered(free, r, added, removed)
+        return self.solve_factored(free, r)
+
+    def solve_factored(self, free, r):
+        """As ``solve``, with ``H[free, free]`` factored itself (the new base)."""
         self._refactor(free)
         return self._base_solve(r)
 
@@ -361,7 +365,9 @@ class _FreeBlockSolver:
         self.slot = np.full(len(free), -1)
         self.used = 0
         self.r_solved = None
-        self._allocate(int(self.budget) + 8)
+        # slots grow as variables border: allocating the whole budget at once
+        # would hold 2 x 8 bytes x budget per base variable
+        self._allocate(16)
 
     def _allocate(self, slots):
         size, used = int(self.position[-1]) + 1, self.used
@@ -460,8 +466,7 @@ def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
         if free.any() and np.abs(gradient[free]).max() > 0.1 * tol_kkt and not np.array_equal(blocks.base, free):
             # the bordered solve lost accuracy (a direct solve leaves the free
             # gradient far below a tenth of the tolerance): factor the block
-            blocks.base = None
-            x[free] = blocks.solve(free, g - H @ upper.astype(np.float64))
+            x[free] = blocks.solve_factored(free, g - H @ upper.astype(np.float64))
             gradient = H @ x - g
         below = free & (x < 0)
         above = free & (x > 1)
