@@ -3,22 +3,20 @@
 A class of N students (default 12; ``DEFORMLAB_BENCH_SCALE_STUDENTS``) hands in the
 whole assignment, solved. Twelve, so that the steady state below starts after each
 worker has met every notebook once (its first unit of a notebook computes the
-reference's outputs on that notebook's hidden cases: 2 s of CPU per worker in
-all). It is graded by the process pool (workers = cores) and by a local Dask cluster (``--scheduler local:<cores>``); each prints
-machine-core-seconds per notebook (wall × cores / notebooks, the issue's target:
-≤ 0.5), the CPU seconds everything this benchmark started used per notebook
-(grader, workers and the sandboxed kernels), and how much of cores × wall that
-leaves unused (idle, or used by other programs on a shared machine; the
-machine's own idle share over the run is printed beside it), and the steady
-state's core-seconds per notebook, between the first and last quarter's results,
-which is what a large class pays once the run's fixed costs are spread thin.
-Then one student's
-notebooks are graded one by one in this process with timers around each step,
-for the breakdown of a unit's wall time (each next unit's sandbox pre-started, as
-in a worker): kernel start, waits, cells run
-(definitions and imports, replayed definitions, collection), peak-memory
-readings, garbage collection, kernel shut-down, verification, feedback
-pictures, and the rest.
+reference's outputs on that notebook's hidden cases: 2 s of CPU per worker in all).
+It is graded by the process pool (workers = cores) and by a local Dask cluster
+(``--scheduler local:<cores>``); each prints machine-core-seconds per notebook (wall
+× cores / notebooks, the issue's target: ≤ 0.5), the CPU seconds everything this
+benchmark started used per notebook (grader, workers and the sandboxed kernels), and
+how much of cores × wall that leaves unused (idle, or used by other programs on a
+shared machine; the machine's own idle share over the run is printed beside it), and
+the steady state's core-seconds per notebook, between the first and last quarter's
+results, which is what a large class pays once the run's fixed costs are spread
+thin. Then one student's notebooks are graded one by one in this process with timers
+around each step, for the breakdown of a unit's wall time (each next unit's sandbox
+pre-started, as in a worker): kernel start, waits, cells run (definitions and
+imports, replayed definitions, collection), peak-memory readings, garbage
+collection, kernel shut-down, verification, feedback pictures, and the rest.
 
 CPU is read from a ``cpuacct`` cgroup of this benchmark's own where the machine
 lets it create one (root on cgroup v1, or a delegated cgroup v2): it counts the

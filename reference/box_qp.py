@@ -460,14 +460,13 @@ def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
         free = ~(lower | upper)
         x = upper.astype(np.float64)
         if free.any():
-            # H[free, upper] 1 is (H 1_upper)[free]
-            x[free] = blocks.solve(free, g - H @ x)
+            r = g - H @ x  # H[free, upper] 1 is (H 1_upper)[free]
+            x[free] = blocks.solve(free, r)
+            if not np.array_equal(blocks.base, free) and np.abs((H @ x - g)[free]).max() > 0.1 * tol_kkt:
+                # the bordered solve lost accuracy (a direct solve leaves the free
+                # gradient far below a tenth of the tolerance): factor the block
+                x[free] = blocks.solve_factored(free, r)
         gradient = H @ x - g
-        if free.any() and np.abs(gradient[free]).max() > 0.1 * tol_kkt and not np.array_equal(blocks.base, free):
-            # the bordered solve lost accuracy (a direct solve leaves the free
-            # gradient far below a tenth of the tolerance): factor the block
-            x[free] = blocks.solve_factored(free, g - H @ upper.astype(np.float64))
-            gradient = H @ x - g
         below = free & (x < 0)
         above = free & (x > 1)
         release = (lower & (gradient < -tol_release)) | (upper & (gradient > tol_release))

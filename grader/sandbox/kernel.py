@@ -460,7 +460,7 @@ class SandboxedKernelManager(KernelManager):
         tree = self._sandbox_processes()
         try:
             if now and self.owns_kernel:
-                await self._kill_now(tree, restart)
+                await self._kill_now(restart)
             else:
                 await super()._async_shutdown_kernel(now=now, restart=restart)
         finally:
@@ -469,16 +469,16 @@ class SandboxedKernelManager(KernelManager):
 
     shutdown_kernel = run_sync(_async_shutdown_kernel)
 
-    async def _kill_now(self, tree: list[Process], restart: bool) -> None:
+    async def _kill_now(self, restart: bool) -> None:
         """``shutdown_kernel(now=True)`` as jupyter_client does it, less two costs of every unit.
 
         jupyter_client first sends the kernel an interrupt request (a control connection and a
         message, for a kernel killed right after), and its ``in_pending_state`` decorator sleeps
-        10 ms "so tests can see the pending state"; the sandbox's tree is also listed once, not twice.
+        10 ms "so tests can see the pending state". The sandbox's tree, listed once, is killed
+        by the caller.
         """
         self.shutting_down = True  # the restarter must not revive it
         self.stop_restarter()
-        kill_and_reap(tree)
         await super()._async_kill_kernel(restart=restart)
         await self._async_cleanup_resources(restart=restart)
 

@@ -2,10 +2,11 @@
 
 Run by the grader as ``python kernel_template.py`` (never imported), on the
 host, with the sandbox's environment. It imports ipykernel, numpy, scipy,
-libigl and the course's ``starter`` package, then serves requests, one JSON object per line on stdin, each answered
-by one line on stdout. It never runs student code and never holds any: a
-request names a sandbox that bubblewrap has already built (its pid 1, a waiter,
-see :mod:`grader.sandbox.fork_server`), and the forked child *enters* it.
+libigl and the course's ``starter`` package, then serves requests, one JSON
+object per line on stdin, each answered by one line on stdout. It never runs
+student code and never holds any: a request names a sandbox that bubblewrap
+has already built (its pid 1, a waiter, see :mod:`grader.sandbox.fork_server`),
+and the forked child *enters* it.
 
 Request: ``{"target": pid, "start": start time, "cgroup": cgroup.procs path
 or null, "seccomp": filter program as hex or null, "workdir": path, "env":
