@@ -277,3 +277,51 @@ def test_principal_submatrices_equal_scipy_indexing_and_come_sorted(seed, n, kee
     np.testing.assert_array_equal(block.toarray(), A.toarray()[np.ix_(keep, keep)])
     for start, stop in zip(block.indptr[:-1], block.indptr[1:]):
         assert (np.diff(block.indices[start:stop]) > 0).all()
+
+
+@settings(max_examples=60, deadline=None)
+@given(seeds, st.integers(2, 60), st.floats(0.1, 0.9))
+def test_idle_variables_are_the_free_components_whose_minimizer_is_exactly_zero(seed, n, free_fraction):
+    """``_idle`` marks exactly the free components of ``H`` with a zero right-hand side, where the block solve gives 0."""
+    rng = np.random.default_rng(seed)
+    A = sp.random(n, n, density=2.0 / n, random_state=rng, format="csc")
+    H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+    H.sort_indices()
+    columns = np.repeat(np.arange(n), np.diff(H.indptr))
+    free = rng.random(n) < free_fraction
+    free[rng.integers(n)] = True
+    block = H[free][:, free]
+    count, labels = sp.csgraph.connected_components(block, directed=False)
+    driven_components = rng.random(count) < 0.5
+    r = np.zeros(n)
+    r[free] = np.where(driven_components[labels], rng.normal(size=free.sum()), 0.0)
+    idle = box_qp_module._idle(H, columns, free, r)
+    expected = np.zeros(n, dtype=bool)
+    if count > 1:
+        expected[np.flatnonzero(free)[~(np.bincount(labels, weights=r[free] != 0, minlength=count) > 0)[labels]]] = True
+    np.testing.assert_array_equal(idle, expected)
+    assert not (idle & ~free).any()
+    x = np.zeros(n)
+    x[free] = np.atleast_1d(spla.spsolve(block.tocsc(), r[free]))
+    assert (x[idle] == 0.0).all()
+
+
+def test_idle_islands_left_out_of_the_free_blocks_give_the_same_weights_from_smaller_factorizations(monkeypatch):
+    """On the tetrahedral hand, ADMM leaves islands free around the other bones; pinned, the factored blocks shrink."""
+    H, G = hand_problem()
+    sizes = []
+    refactor = box_qp_module._FreeBlockSolver._refactor
+
+    def measuring_refactor(self, free):
+        sizes.append(int(free.sum()))
+        return refactor(self, free)
+
+    monkeypatch.setattr(box_qp_module._FreeBlockSolver, "_refactor", measuring_refactor)
+    X = box_qp(H, G)
+    pinned_sizes, sizes[:] = list(sizes), []
+    monkeypatch.setattr(box_qp_module, "_idle", lambda H, columns, free, r: np.zeros_like(free))
+    X_islands = box_qp(H, G)
+    assert sum(pinned_sizes) < 0.8 * sum(sizes)
+    for x, g in zip(X.T, G.T):
+        assert kkt_residual(H, g, x) <= 1e-9
+    np.testing.assert_allclose(X, X_islands, atol=1e-7)
