@@ -447,11 +447,12 @@ def _idle(H, columns, free, r):
     lie at the lower bound. A skinning weight's ADMM prediction leaves such
     islands free around the other handles: 40-50 % of some free blocks on
     the character with bones and on the tetrahedral hand, which would
-    otherwise be factored at every step. ``free`` ``(n,)`` bool, ``r``
-    ``(n,)``; returns ``(n,)`` bool.
+    otherwise be factored at every step. A free set of one component is
+    left whole (undriven, it is the trivial problem, solved in one step).
+    ``free`` ``(n,)`` bool, ``r`` ``(n,)``; returns ``(n,)`` bool.
     """
     if not free.any():
-        return free
+        return np.zeros_like(free)
     count, labels = connected_components(_principal_submatrix(H, columns, free), directed=False)
     if count == 1:
         return np.zeros_like(free)
