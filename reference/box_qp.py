@@ -1,11 +1,13 @@
 """Convex quadratic programs on the unit box: ``min ½ xᵀ H x - gᵀ x`` s.t. ``0 ≤ x ≤ 1``."""
 
+import functools
+
 import numpy as np
 import scipy
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import connected_components
-from threadpoolctl import threadpool_limits
+from threadpoolctl import ThreadpoolController
 
 from starter.validation import as_float_array
 
@@ -107,9 +109,15 @@ def box_qp(H, G, tol=1e-9):
     # OpenBLAS's threads only slow the small dense products and solves here
     # down (bbw on the tetrahedral hand, 2 cores: 0.36 s wall with them, 0.10
     # s without)
-    with threadpool_limits(limits=1, user_api="blas"):
+    with _thread_pools().limit(limits=1, user_api="blas"):
         X = _solve(H, G.reshape(len(G), -1), tol)
     return X.reshape(G.shape)
+
+
+@functools.cache
+def _thread_pools():
+    # finding the loaded BLAS libraries takes 0.3 ms: once, not per call
+    return ThreadpoolController()
 
 
 def _factor(A, permc_spec):
@@ -152,9 +160,11 @@ def _solve(H, G, tol):
             order = np.argsort(lu.perm_c)
             H_ordered = H[order][:, order].tocsc()
             H_ordered.sort_indices()
-            G_ordered = G[order]
+            # column-major: SuperLU solves many right-hand sides in that
+            # layout, and takes other layouts through a copy
+            G_ordered = np.asfortranarray(G[order])
             at_lower, at_upper = _admm_active_sets(
-                H_ordered, G_ordered, X_unconstrained[order], _admm_penalty(H, lu, scale),
+                H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale),
             )
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
             X = np.empty((n, m))
@@ -374,7 +384,9 @@ class _FreeBlockSolver:
 
     def _allocate(self, slots):
         size, used = int(self.position[-1]) + 1, self.used
-        B, Y, BY = np.zeros((size, slots)), np.zeros((size, slots)), np.zeros((slots, slots))
+        # column-major, so that a run of B's columns goes to SuperLU uncopied
+        B, Y = np.zeros((size, slots), order="F"), np.zeros((size, slots), order="F")
+        BY = np.zeros((slots, slots))
         if used:
             B[:, :used], Y[:, :used], BY[:used, :used] = self.B[:, :used], self.Y[:, :used], self.BY[:used, :used]
         self.B, self.Y, self.BY = B, Y, BY

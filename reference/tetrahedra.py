@@ -90,7 +90,9 @@ def as_tet_mesh(V, T, rel_tol=1e-12, name="T"):
         raise ValueError(f"V must have shape (n, 3) for a tetrahedral mesh, got {V.shape}")
     T = as_tets(T, len(V), name)
     volume = np.abs(tet_volumes_unchecked(V, T))
-    longest = max(float(np.ptp(V[T.ravel()], axis=0).max()), np.finfo(float).tiny)
+    used = np.zeros(len(V), dtype=bool)
+    used[T.ravel()] = True
+    longest = max(float(np.ptp(V[used], axis=0).max()), np.finfo(float).tiny)
     flat = volume <= rel_tol * longest**3
     if flat.any():
         t = int(np.flatnonzero(flat)[0])
@@ -151,12 +153,25 @@ def barycentric_gradients(V, T):
 # it to a private twin that trusts it, so that chains of them (the biharmonic
 # matrix, deformation gradients, ARAP's precomputation) check it only once.
 def _barycentric_gradients(V, T):
+    return _gradients_and_volumes(V, T)[0]
+
+
+def _gradients_and_volumes(V, T):
+    """``(G, volume)``: ``_barycentric_gradients`` and the unsigned volumes, from one determinant."""
     # the rows of [e1 e2 e3]⁻¹ are e2 × e3, e3 × e1, e1 × e2 over the
-    # determinant: 3x faster than a batched inverse, the same to roundoff
-    e1, e2, e3 = (V[T[:, k]] - V[T[:, 0]] for k in (1, 2, 3))
-    C = np.stack([np.cross(e2, e3), np.cross(e3, e1), np.cross(e1, e2)], axis=1)
-    B = C / np.einsum("ta,ta->t", e1, C[:, 0])[:, None, None]
-    return np.concatenate([-B.sum(axis=1, keepdims=True), B], axis=1)
+    # determinant: 3x faster than a batched inverse, the same to roundoff;
+    # the cross products written out are 3x faster than np.cross's
+    e = V[T[:, 1:]] - V[T[:, :1]]  # (f, 3, 3): e1, e2, e3
+    x, y, z = e[:, :, 0], e[:, :, 1], e[:, :, 2]
+    G = np.empty((len(T), 4, 3))
+    for k, (a, b) in enumerate(((1, 2), (2, 0), (0, 1)), start=1):
+        G[:, k, 0] = y[:, a] * z[:, b] - z[:, a] * y[:, b]
+        G[:, k, 1] = z[:, a] * x[:, b] - x[:, a] * z[:, b]
+        G[:, k, 2] = x[:, a] * y[:, b] - y[:, a] * x[:, b]
+    determinant = np.einsum("ta,ta->t", e[:, 0], G[:, 1])
+    G[:, 1:] /= determinant[:, None, None]
+    G[:, 0] = -G[:, 1:].sum(axis=1)
+    return G, np.abs(determinant) / 6.0
 
 
 def tet_cotangent_weights(V, T):
@@ -180,8 +195,7 @@ def tet_cotangent_weights(V, T):
 
 
 def _tet_cotangent_weights(V, T):
-    G = _barycentric_gradients(V, T)
-    volume = np.abs(tet_volumes_unchecked(V, T))
+    G, volume = _gradients_and_volumes(V, T)
     return -volume[:, None] * np.einsum("tea,tea->te", G[:, TET_EDGES[:, 0]], G[:, TET_EDGES[:, 1]])
 
 
@@ -205,12 +219,15 @@ def tet_cotangent_laplacian(V, T):
 
 
 def _tet_cotangent_laplacian(V, T):
-    C = _tet_cotangent_weights(V, T)
-    n = len(V)
-    i, j = T[:, TET_EDGES[:, 0]].ravel(), T[:, TET_EDGES[:, 1]].ravel()
-    W = sp.csr_matrix((np.concatenate([C.ravel(), C.ravel()]), (np.concatenate([i, j]), np.concatenate([j, i]))),
-                      shape=(n, n))
-    return (W - sp.diags(np.asarray(W.sum(axis=1)).ravel())).tocsr()
+    return _assembled_laplacian(*_gradients_and_volumes(V, T), T, len(V))
+
+
+def _assembled_laplacian(G, volume, T, n):
+    # one COO -> CSR pass over each tetrahedron's 4x4 block -|vol| G Gᵀ: the
+    # cotangent weights off the diagonal and, as G's rows sum to zero, minus
+    # their row sums on it
+    blocks = (G @ G.transpose(0, 2, 1)) * -volume[:, None, None]
+    return sp.csr_matrix((blocks.ravel(), (np.repeat(T, 4, axis=1).ravel(), np.tile(T, (1, 4)).ravel())), shape=(n, n))
 
 
 def tet_mass_matrix(V, T):
@@ -233,9 +250,11 @@ def tet_mass_matrix(V, T):
 
 
 def _tet_mass_matrix(V, T):
-    quarter = np.abs(tet_volumes_unchecked(V, T)) / 4.0
-    mass = np.bincount(T.ravel(), weights=np.repeat(quarter, 4), minlength=len(V))
-    return sp.diags(mass).tocsr()
+    return sp.diags(_lumped_mass(np.abs(tet_volumes_unchecked(V, T)), T, len(V))).tocsr()
+
+
+def _lumped_mass(volume, T, n):
+    return np.bincount(T.ravel(), weights=np.repeat(volume / 4.0, 4), minlength=n)
 
 
 def tet_biharmonic_matrix(V, T):
@@ -265,9 +284,12 @@ def _tet_biharmonic_matrix(V, T):
     if i is not None:
         # an unreferenced vertex has zero mass, so M⁻¹ does not exist
         raise ValueError(f"V has an unreferenced vertex: V[{i}] is in no tetrahedron of T")
-    L = _tet_cotangent_laplacian(V, T)
-    return (L @ sp.diags(1.0 / _tet_mass_matrix(V, T).diagonal()) @ L).tocsr()
-
+    G, volume = _gradients_and_volumes(V, T)
+    L = _assembled_laplacian(G, volume, T, len(V))
+    # M⁻¹ L by scaling L's rows (no product with a diagonal matrix)
+    scaled = L.copy()
+    scaled.data /= np.repeat(_lumped_mass(volume, T, len(V)), np.diff(L.indptr))
+    return (L @ scaled).tocsr()
 
 
 def _as_deformed(U, n):
