@@ -160,7 +160,8 @@ def _gradients_and_volumes(V, T):
     """``(G, volume)``: ``_barycentric_gradients`` and the unsigned volumes, from one determinant."""
     # the rows of [e1 e2 e3]⁻¹ are e2 × e3, e3 × e1, e1 × e2 over the
     # determinant: 3x faster than a batched inverse, the same to roundoff;
-    # the cross products written out are 3x faster than np.cross's
+    # written out component by component (the hand's 4,224 tetrahedra: 0.84
+    # ms, 1.07 ms through np.cross and np.stack)
     e = V[T[:, 1:]] - V[T[:, :1]]  # (f, 3, 3): e1, e2, e3
     x, y, z = e[:, :, 0], e[:, :, 1], e[:, :, 2]
     G = np.empty((len(T), 4, 3))
@@ -397,7 +398,8 @@ def tet_arap_precompute(V, T, handles):
             f"handles must include a vertex of every connected component of the mesh: "
             f"the component of vertex {vertex} has none, so its position is undetermined"
         )
-    L = _tet_cotangent_laplacian(V, T)
+    G, volume = _gradients_and_volumes(V, T)
+    L = _assembled_laplacian(G, volume, T, n)
     free = np.setdiff1d(np.arange(n), handles)
     L_free = L[free]
     solver = None
@@ -409,7 +411,7 @@ def tet_arap_precompute(V, T, handles):
     scatter = sp.csr_matrix((np.ones(T.size), (T.ravel(), np.arange(T.size))), shape=(n, T.size))
     return types.SimpleNamespace(
         V=V, T=T, L=L, handles=handles, free=free, solver=solver,
-        volumes=np.abs(tet_volumes_unchecked(V, T)), gradients=barycentric_gradients(V, T),
+        volumes=volume, gradients=G,
         L_free_handles=L_free[:, handles].tocsr(), scatter=scatter,
     )
 
