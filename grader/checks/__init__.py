@@ -8,15 +8,17 @@ from __future__ import annotations
 
 import functools
 import traceback
+import zlib
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
+from grader.checks import callees
 from grader.checks.base import Case, FunctionChecks, ShapeError, Verdict, run_steps
 from grader.contract import reference_function
-from grader.harness.outputs import CaseOutput
+from grader.harness.outputs import RECORD_ELEMENTS, CaseOutput
 
 
 @functools.cache
@@ -48,6 +50,8 @@ class CaseResult:
     verdicts: list[Verdict]
     error: str | None = None
     seconds: float | None = None
+    #: the course functions whose own (wrong) outputs explain this case's output: it passed on its own work
+    own_work_of: tuple[str, ...] = ()
 
     @property
     def passed(self) -> bool:
@@ -76,6 +80,13 @@ class FunctionResult:
             return self.error
         failed = [c for c in self.cases if not c.passed]
         if not failed:
+            callees = sorted({n for c in self.cases for n in c.own_work_of})
+            if callees:
+                given = sum(bool(c.own_work_of) for c in self.cases)
+                return (
+                    f"all {len(self.cases)} hidden cases passed ({given} judged with your own "
+                    f"{', '.join(callees)}: a mistake there is charged where it is graded, not here)"
+                )
             return f"all {len(self.cases)} hidden cases passed"
         first = failed[0]
         why = first.error or next(f"{v.name}: {v.detail}" for v in first.verdicts if not v.passed)
@@ -87,15 +98,74 @@ def reference_outputs(cases: list[Case]) -> list[Any]:
     return [run_steps(case, reference_function) for case in cases]
 
 
-def evaluate(checks: FunctionChecks, cases: list[Case], outputs: list[CaseOutput], expected: list[Any]) -> FunctionResult:
-    """Verdicts for every case; a check that crashes on odd output fails that case, never the run."""
+#: function -> the course functions its reference called on its hidden cases (``callees.trace``)
+_REACHED: dict[str, frozenset[str]] = {}
+
+
+def record_plan(function: str, seed: int | tuple[int, ...] = 0) -> dict:
+    """What the collector records while ``function`` is collected: the course functions a rerun may need.
+
+    Sent to the kernel with the fixtures: names, the sketches' seed and the recordings' budget; never an expected value.
+    """
+    seeded_cases(function, seed)  # fills _REACHED[function]
+    return {
+        "names": callees.recorded_names(function, _REACHED[function]),
+        "batched": {name: param for name, (param, _) in callees.BATCHED.items()},
+        "seed": sketch_seed(seed),
+        "budget": RECORD_ELEMENTS,
+    }
+
+
+def sketch_seed(seed: int | tuple[int, ...]) -> int:
+    """The seed of the argument sketches for a run's ``seed``: a plain integer under 2**31."""
+    return zlib.crc32(repr(seed).encode()) & 0x7FFFFFFF
+
+
+def _own_work(checks: FunctionChecks, case: Case, out: CaseOutput, seed) -> tuple[str, ...]:
+    """The callees whose student outputs explain ``out`` (empty if they do not, or nothing was substituted).
+
+    An error explains itself when the contract's function raises the same
+    ``ValueError`` on the student's callee outputs.
+    """
+    if not out.calls or seed is None:
+        return ()
+    rerun = callees.own_work_output(case, out.calls, checks.function, sketch_seed(seed))
+    if rerun is None or not rerun[1]:
+        return ()
+    output, substituted, raised = rerun
+    if raised is not None:
+        explained = out.error is not None and out.error.startswith(f"{raised}:")
+    else:
+        explained = out.error is None and callees.matches_own_work(out.value, output)
+    return tuple(sorted(substituted)) if explained else ()
+
+
+def evaluate(
+    checks: FunctionChecks, cases: list[Case], outputs: list[CaseOutput], expected: list[Any], seed=None
+) -> FunctionResult:
+    """Verdicts for every case; a check that crashes on odd output fails that case, never the run.
+
+    With the run's ``seed``, a case the verdicts fail passes when the student's
+    output is the reference's given the student's own outputs of the course
+    functions it called (``grader.checks.callees``): a bug is charged once.
+    """
     result = FunctionResult(checks.function)
     for case, out, ref in zip(cases, outputs, expected):
         if out.error is not None:
-            result.cases.append(CaseResult(case.label, [], error=out.error, seconds=out.seconds))
+            given = _own_work(checks, case, out, seed)
+            if given:
+                result.cases.append(CaseResult(case.label, [Verdict("own work", True)], seconds=out.seconds, own_work_of=given))
+            else:
+                result.cases.append(CaseResult(case.label, [], error=out.error, seconds=out.seconds))
             continue
         try:
             verdicts = checks.verify(case, out.value, ref)
+            if not all(v.passed for v in verdicts):
+                given = _own_work(checks, case, out, seed)
+                if given:
+                    verdicts = [Verdict("own work", True)]
+                    result.cases.append(CaseResult(case.label, verdicts, seconds=out.seconds, own_work_of=given))
+                    continue
             result.cases.append(CaseResult(case.label, verdicts, seconds=out.seconds))
         except ShapeError as exc:
             result.cases.append(CaseResult(case.label, [Verdict("output shape", False, str(exc))], seconds=out.seconds))
@@ -119,7 +189,9 @@ def wire(value: Any) -> Any:
 def seeded_cases(function: str, seed: int | tuple[int, ...] = 0) -> tuple[list[Case], list[Any]]:
     """The cases of ``function`` drawn with ``default_rng(seed)`` and the reference's outputs on them (cached)."""
     cases = all_checks()[function].cases(np.random.default_rng(seed))
-    return cases, reference_outputs(cases)
+    outputs, reached = callees.trace(lambda: reference_outputs(cases))
+    _REACHED[function] = _REACHED.get(function, frozenset()) | reached
+    return cases, outputs
 
 
 def check_namespace(function: str, namespace: dict, seed: int = 0) -> FunctionResult:

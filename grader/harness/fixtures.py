@@ -74,11 +74,16 @@ def _encode(value: Any, arrays: dict[str, np.ndarray]) -> dict:
     raise TypeError(f"cannot send a {type(value).__name__} to the kernel")
 
 
-def write_fixtures(function: str, cases: list[Case], directory: Path) -> None:
-    """Write ``directory/<function>.json`` and ``.npz`` describing ``cases``."""
+def write_fixtures(function: str, cases: list[Case], directory: Path, record: dict | None = None) -> None:
+    """Write ``directory/<function>.json`` and ``.npz`` describing ``cases``.
+
+    ``record`` is what the collector records of the other course functions the
+    student's function calls (``grader.checks.callees.record_plan``).
+    """
     arrays: dict[str, np.ndarray] = {}
     manifest = {
         "function": function,
+        "record": record or {},
         "cases": [
             {
                 "label": case.label,

@@ -26,7 +26,7 @@ import math
 import os
 import stat
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -46,6 +46,9 @@ DEFAULT_ELEMENTS = 2**22
 #: Nesting of tuples in one output.
 MAX_DEPTH = 4
 MAX_ITEMS = 64
+#: Recorded callee calls (``grader.checks.callees``): per case, and elements read over one function's cases.
+MAX_CALLS = 200
+RECORD_ELEMENTS = 2**23
 
 
 class OutputError(ValueError):
@@ -54,11 +57,35 @@ class OutputError(ValueError):
 
 @dataclass
 class CaseOutput:
-    """One case's result: ``value`` when ``error`` is None."""
+    """One case's result: ``value`` when ``error`` is None; ``calls``, what it called of the course's other functions."""
 
     value: Any
     error: str | None
     seconds: float | None
+    calls: list = field(default_factory=list)
+
+
+@dataclass
+class RecordedCall:
+    """One call the student's function made to another course function, as the kernel wrote it down.
+
+    Attributes
+    ----------
+    name : str
+        The course function called.
+    args : list, kwargs : dict
+        Sketches of the arguments (``__deformlab_sketch__``), validated; ``None`` for batched calls.
+    items : numpy.ndarray or None
+        A batched call's whole input, ``(..., *item shape)``.
+    output : any
+        The student's output, read like a collected output (plain arrays, CSR matrices, tuples).
+    """
+
+    name: str
+    args: list | None
+    kwargs: dict | None
+    items: np.ndarray | None
+    output: Any
 
 
 @dataclass
@@ -248,16 +275,20 @@ def read_outputs(function: str, directory: Path, n_cases: int, expected: list | 
     records, peak = _parse_records(records_bytes, n_cases)
     arrays = _Arrays(arrays_bytes)
     cases = []
+    room = [RECORD_ELEMENTS]
     for i, rec in enumerate(records):
         seconds = _non_negative(rec.get("seconds"))
         if rec.get("ok") is not True:
-            cases.append(CaseOutput(None, str(rec.get("error", "failed"))[:2000], seconds))
+            calls = _recorded_calls(rec.get("calls"), i, arrays, room)
+            cases.append(CaseOutput(None, str(rec.get("error", "failed"))[:2000], seconds, calls))
             continue
         budget = element_budget(expected[i]) if expected is not None else DEFAULT_ELEMENTS
         try:
-            cases.append(CaseOutput(_rebuild(rec.get("output"), f"c{i}", arrays, budget), None, seconds))
+            value = _rebuild(rec.get("output"), f"c{i}", arrays, budget)
         except (OutputError, KeyError, ValueError, TypeError, OSError, zipfile.BadZipFile) as exc:
             cases.append(CaseOutput(None, f"output could not be read: {exc}", seconds))
+            continue
+        cases.append(CaseOutput(value, None, seconds, _recorded_calls(rec.get("calls"), i, arrays, room)))
     peak = _non_negative(peak)
     return Collected(function, cases, None if peak is None else int(peak))
 
@@ -267,3 +298,63 @@ def _non_negative(value: Any) -> float | None:
     if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value >= 0:
         return float(value)
     return None
+
+
+def _sketch(value: Any) -> dict | None:
+    """A kernel-written argument sketch (``kernel_side.__deformlab_sketch__``), checked field by field; None if malformed."""
+    if not isinstance(value, dict):
+        return None
+    if value.keys() == {"opaque"}:
+        return {"opaque": True}
+    if value.keys() == {"v"}:
+        v = value["v"]
+        if v is None or (isinstance(v, str) and len(v) <= 100):
+            return {"v": v}
+        return None
+    if value.keys() != {"shape", "norm", "p"}:
+        return None
+    shape, norm, p = value["shape"], value["norm"], value["p"]
+    if not (isinstance(shape, list) and len(shape) <= 8
+            and all(isinstance(s, int) and not isinstance(s, bool) and 0 <= s < 2**40 for s in shape)):
+        return None
+    if _non_negative(norm) is None or not (isinstance(p, list) and len(p) == 2 and all(_finite(x) for x in p)):
+        return None
+    return {"shape": list(shape), "norm": float(norm), "p": [float(x) for x in p]}
+
+
+def _finite(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _recorded_calls(raw: Any, case: int, arrays: _Arrays, room: list[int]) -> list:
+    """The calls a case recorded, each read like an output; a malformed call is left out, never trusted.
+
+    ``room`` holds the elements still allowed over the function's cases (``RECORD_ELEMENTS``).
+    """
+    calls = []
+    if not isinstance(raw, list):
+        return calls
+    for j, entry in enumerate(raw[:MAX_CALLS]):
+        if room[0] <= 0:
+            break
+        if not isinstance(entry, dict) or not isinstance(entry.get("name"), str):
+            continue
+        key = f"r{case}.{j}"
+        try:
+            items = None
+            args = kwargs = None
+            if "args" in entry:
+                args = [_sketch(a) for a in entry["args"]] if isinstance(entry["args"], list) else [None]
+                kwargs = entry.get("kwargs") if isinstance(entry.get("kwargs"), dict) else {}
+                kwargs = {str(k)[:100]: _sketch(v) for k, v in list(kwargs.items())[:MAX_ITEMS]}
+                if len(args) > MAX_ITEMS or None in args or None in kwargs.values():
+                    continue
+            else:
+                items = arrays.load(key + ".in", min(room[0], DEFAULT_ELEMENTS))
+                room[0] -= items.size
+            output = _rebuild(entry.get("output"), key + ".out", arrays, min(room[0], DEFAULT_ELEMENTS))
+            room[0] -= element_count(output)
+        except (OutputError, KeyError, ValueError, TypeError, OSError, zipfile.BadZipFile):
+            continue
+        calls.append(RecordedCall(entry["name"][:100], args, kwargs, items, output))
+    return calls

@@ -33,7 +33,7 @@ from grader.pipeline.feedback import feedback_html
 from grader.pipeline.guard import GraderLimitExceeded, grader_limits, peak_rss_bytes, reset_peak_rss
 from grader.pipeline.neutralize import neutralize
 from grader.pipeline.sanitize import SubmissionError, parse_submission, read_submission_bytes, sanitize
-from grader.pipeline.verify import graded_cells, hidden_cases, verify
+from grader.pipeline.verify import graded_cells, hidden_cases, recording, verify
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.report.digest import output_digest
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
@@ -311,7 +311,8 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
     broken: dict[str, str] = {}  # functions whose hidden cases the reference itself failed on
     for cell in cells:
         try:
-            write_fixtures(cell.function, hidden_cases(cell.function, spec.seed)[0], fixtures)
+            write_fixtures(cell.function, hidden_cases(cell.function, spec.seed)[0], fixtures,
+                           recording(cell.function, spec.seed))
         except Exception as exc:  # noqa: BLE001 - costs this function, not the notebook
             broken[cell.function] = f"grader error preparing hidden cases: {type(exc).__name__}: {exc}"
     (workdir / f"{spec.notebook}.ipynb").write_text(_notebook_json(sanitized.nb), encoding="utf-8")

@@ -13,7 +13,7 @@ from typing import Any
 
 import nbformat
 
-from grader.checks import FunctionResult, all_checks, evaluate, seeded_cases
+from grader.checks import FunctionResult, all_checks, evaluate, record_plan, seeded_cases
 from grader.checks.base import Case
 from grader.harness.outputs import Collected, OutputError
 
@@ -38,13 +38,23 @@ def graded_cells(source: nbformat.NotebookNode) -> list[GradedCell]:
     return cells
 
 
+def _seed(function: str, seed: int) -> tuple[int, int]:
+    # the function's name mixed in, so that functions drawing the same kinds of input still get different ones
+    return (seed, zlib.crc32(function.encode()))
+
+
+def recording(function: str, seed: int) -> dict:
+    """What the collector records of the course functions ``function`` calls (``grader.checks.record_plan``)."""
+    return record_plan(function, _seed(function, seed))
+
+
 def hidden_cases(function: str, seed: int) -> tuple[list[Case], list[Any]]:
     """The hidden cases of ``function`` for a run's ``seed`` and the reference's outputs on them.
 
     The function's name is mixed into the seed so that functions drawing the
     same kinds of input still get different ones.
     """
-    return seeded_cases(function, (seed, zlib.crc32(function.encode())))
+    return seeded_cases(function, _seed(function, seed))
 
 
 def verify(function: str, seed: int, collected: Collected | None, failure: str | None) -> FunctionResult:
@@ -60,4 +70,4 @@ def verify(function: str, seed: int, collected: Collected | None, failure: str |
         return FunctionResult(function, error=failure or "no outputs")
     if len(collected.cases) != len(cases):
         raise OutputError(f"{function}: {len(collected.cases)} outputs for {len(cases)} cases")
-    return evaluate(all_checks()[function], cases, collected.cases, expected)
+    return evaluate(all_checks()[function], cases, collected.cases, expected, _seed(function, seed))

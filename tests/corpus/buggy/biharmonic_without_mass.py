@@ -10,4 +10,4 @@ def biharmonic_matrix(V, F):
 ''',
 }
 # both weight solvers minimize wᵀ Q w
-LOSES = {"biharmonic_matrix", "unconstrained_biharmonic_weights", "bbw"}
+LOSES = {"biharmonic_matrix"}

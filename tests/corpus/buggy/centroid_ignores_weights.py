@@ -9,4 +9,4 @@ def centroid(P, w=None):
 ''',
 }
 # the weighted covariance and the alignment use the centroid
-LOSES = {"centroid", "covariance_matrix", "orthogonal_align"}
+LOSES = {"centroid"}

@@ -22,4 +22,4 @@ def cotangent_weights(V, F):
 # Right on counter-clockwise meshes only. Where a whole component is clockwise, L and the global step's
 # right-hand side change sign together (the same U), but the local step maximizes tr(R (−S)); where
 # neighbouring triangles differ in orientation, L itself is wrong and so are the global step and editing.
-LOSES = {"cotangent_weights", "cotangent_laplacian", "arap_global_step", "arap_solve", "laplacian_editing"}
+LOSES = {"cotangent_weights"}

@@ -20,4 +20,4 @@ def cotangent_weights(V, F):
 ''',
 }
 # the hidden meshes have obtuse triangles, so L and every solve change
-LOSES = {"cotangent_weights", "cotangent_laplacian", "arap_precompute", "arap_global_step", "arap_solve", "laplacian_editing"}
+LOSES = {"cotangent_weights"}

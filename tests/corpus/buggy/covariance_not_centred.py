@@ -11,4 +11,4 @@ def covariance_matrix(P, Q, w=None):
     return P.T @ (w[:, None] * Q)
 ''',
 }
-LOSES = {"covariance_matrix", "orthogonal_align"}
+LOSES = {"covariance_matrix"}

@@ -16,5 +16,5 @@ def dual_quaternion_transforms(Q):
     return T
 ''',
 }
-# dqs calls the student's dual_quaternion_transforms: its poses turn the wrong way too
-LOSES = {"dual_quaternion_transforms", "dqs"}
+# dqs calls the student's dual_quaternion_transforms and is judged with its outputs: a bug is charged once
+LOSES = {"dual_quaternion_transforms"}

@@ -11,5 +11,6 @@ def edges(F):
     return E[np.lexsort((E[:, 1], E[:, 0]))]
 ''',
 }
-# euler_characteristic and genus count edges with edges()
-LOSES = {"edges", "euler_characteristic", "genus"}
+# euler_characteristic is judged with the student's own edges(); genus loses too: with the
+# duplicated edges χ is no orientable manifold's, where the contract's genus raises, so no rerun applies
+LOSES = {"edges", "genus"}

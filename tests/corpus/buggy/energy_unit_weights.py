@@ -17,4 +17,4 @@ def arap_energy(V, U, F, C, R):
 ''',
 }
 # the notebook's arap_solve reports the student's own energies
-LOSES = {"arap_energy", "arap_solve"}
+LOSES = {"arap_energy"}

@@ -16,4 +16,4 @@ def fast_global_step(data, R, fixed_transforms):
     return T_stack.reshape(m, d + 1, d).transpose(0, 2, 1)
 ''',
 }
-LOSES = {"fast_global_step", "fast_precompute", "fast_solve"}
+LOSES = {"fast_global_step", "fast_precompute"}

@@ -24,5 +24,7 @@ def arap_global_step(data, R, handle_positions):
     return U
 ''',
 }
-# with every R_i = I both right-hand sides are -L V, so Laplacian editing is unaffected
-LOSES = {"arap_global_step", "arap_precompute", "arap_solve"}
+# arap_precompute is graded through the student's own global step (its object is the student's design);
+# arap_solve is judged with the student's own global step; with every R_i = I both right-hand sides
+# are -L V, so Laplacian editing is unaffected
+LOSES = {"arap_global_step", "arap_precompute"}

@@ -17,4 +17,4 @@ def cotangent_laplacian(V, F):
 ''',
 }
 # everything that factorizes or applies L
-LOSES = {"cotangent_laplacian", "arap_precompute", "arap_global_step", "arap_solve", "laplacian_editing"}
+LOSES = {"cotangent_laplacian"}

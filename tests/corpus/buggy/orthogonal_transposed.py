@@ -9,4 +9,4 @@ def optimal_orthogonal(S):
     return U @ Vt
 ''',
 }
-LOSES = {"optimal_orthogonal", "orthogonal_align"}
+LOSES = {"optimal_orthogonal"}

@@ -58,5 +58,7 @@ def laplacian_editing(V, F, handles, handle_positions):
     return arap_global_step(arap_precompute(V, F, handles), identities, handle_positions)
 ''',
 }
-# Every hidden problem gives its handles in random order; laplacian_editing() calls the student's precompute and global step.
-LOSES = {"arap_precompute", "arap_global_step", "arap_solve", "laplacian_editing"}
+# Every hidden problem gives its handles in random order. The global step and the solver take the student's
+# precompute object as input (its design is the student's), so they lose with it; laplacian_editing calls
+# precompute and global step and is judged with their outputs.
+LOSES = {"arap_global_step", "arap_precompute", "arap_solve"}

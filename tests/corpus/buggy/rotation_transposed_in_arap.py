@@ -11,6 +11,6 @@ def optimal_rotation(S):
     return (U * D[..., None, :]) @ Vt
 ''',
 }
-# optimal_rotation is graded in 02 only (a bug is charged once), but the local step and the
-# solver call it; the global step takes R as input
-LOSES = {"arap_rotations", "arap_solve"}
+# optimal_rotation is graded in 02 only; arap_rotations and arap_solve call it and are judged
+# with the student's own rotations (a bug is charged once): nothing is lost here
+LOSES = set()

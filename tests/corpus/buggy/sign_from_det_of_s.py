@@ -13,4 +13,4 @@ def optimal_rotation(S):
     return np.swapaxes(Vt, -1, -2) @ (D[..., :, None] * np.swapaxes(U, -1, -2))
 ''',
 }
-LOSES = {"optimal_rotation", "rigid_align"}
+LOSES = {"optimal_rotation"}

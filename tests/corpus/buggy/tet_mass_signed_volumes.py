@@ -11,5 +11,5 @@ def tet_mass_matrix(V, T):
     return sp.diags(np.bincount(T.ravel(), weights=np.repeat(quarter, 4), minlength=len(V)))
 ''',
 }
-# the biharmonic matrix divides by the student's own masses
-LOSES = {"tet_mass_matrix", "tet_biharmonic_matrix"}
+# tet_biharmonic_matrix calls it and is judged with the student's own masses: a bug is charged once
+LOSES = {"tet_mass_matrix"}
