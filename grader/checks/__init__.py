@@ -18,7 +18,7 @@ import scipy.sparse as sp
 from grader.checks import callees
 from grader.checks.base import Case, FunctionChecks, ShapeError, Verdict, run_steps
 from grader.contract import reference_function
-from grader.harness.outputs import RECORD_ELEMENTS, CaseOutput
+from grader.harness.outputs import MAX_CALLS, RECORD_ELEMENTS, CaseOutput
 
 
 @functools.cache
@@ -113,6 +113,7 @@ def record_plan(function: str, seed: int | tuple[int, ...] = 0) -> dict:
         "batched": {name: param for name, (param, _) in callees.BATCHED.items()},
         "seed": sketch_seed(seed),
         "budget": RECORD_ELEMENTS,
+        "max_calls": MAX_CALLS,
     }
 
 

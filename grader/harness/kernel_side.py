@@ -15,10 +15,6 @@ functions (``grader.checks.callees``): a mistake in a callee costs the
 callee's points only.
 """
 
-#: Calls recorded per case, at most (a name of its own: this file runs in the student's namespace).
-__deformlab_max_calls__ = 2000
-
-
 def __deformlab_sketch__(value, seed):
     """A few numbers that tell two arguments apart: shape, Frobenius norm and two random bilinear projections.
 
@@ -84,6 +80,7 @@ def __deformlab_collect__(function, fixture_dir, out_dir):
     plan = manifest.get("record") or {}
     calls = []  # the current case's recorded calls
     room = [int(plan.get("budget", 0))]  # elements the recordings may still hold
+    max_calls = int(plan.get("max_calls", 0))  # per case
 
     def decode(value, results):
         if "a" in value:
@@ -122,7 +119,7 @@ def __deformlab_collect__(function, fixture_dir, out_dir):
     def recorder(name, fn, batched):
         def recorded(*args, **kwargs):
             out = fn(*args, **kwargs)
-            if len(calls) >= __deformlab_max_calls__ or room[0] <= 0:
+            if len(calls) >= max_calls or room[0] <= 0:
                 return out
             try:
                 key = f"r{index}.{len(calls)}"
