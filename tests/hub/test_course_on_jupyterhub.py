@@ -1,0 +1,551 @@
+"""The course loop on a real JupyterHub: release, fetch, submit, collect, grade, return feedback.
+
+JupyterHub runs as a course's admin runs it on one machine: as root, on 127.0.0.1, with its own
+proxy (configurable-http-proxy from the npm registry, installed by ``make setup`` in
+``tests/hub/node_modules``), PAM logins of local Unix users and each user's JupyterLab started as
+that user (JupyterHub's default authenticator and spawner). nbgrader's exchange is configured as
+its documentation says: one folder every user may write (``/srv/nbgrader/exchange``, here mode
+1777) and a global ``nbgrader_config.py`` naming it and the course. The test creates an instructor
+and two students as Unix users (it must run as root) and removes them afterwards.
+
+Everything runs in a private mount namespace, so the machine's ``/srv`` and ``/usr/local/etc``
+are left alone: the namespace shows a fresh ``/srv`` and ``/usr/local/etc/jupyter``. Where the
+Python interpreter lives in a folder other users cannot enter (pyenv under ``/root``, mode 0700),
+the namespace shows that folder with only the interpreter's tree in it, as if Python had been
+installed where every user can run it, as a hub's admin installs it.
+
+In headless Chromium each student logs in, fetches the assignment in the Assignments tab (Nbgrader >
+Assignment List), opens the notebook, writes ``edges``, runs the notebook's cells, saves and
+submits. The instructor, in a shell of their own account, runs ``nbgrader collect``, ``deformlab
+grade``, ``deformlab export --to nbgrader-feedback`` and ``nbgrader release_feedback``; each
+student fetches the feedback in the Assignments tab and opens it in JupyterLab. The grades are
+checked in grades.csv, the nbgrader gradebook and the Canvas and Moodle exports.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import json
+import os
+import pwd
+import re
+import secrets
+import shutil
+import signal
+import stat
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+from dataclasses import dataclass
+from pathlib import Path
+
+import nbformat
+import psutil
+import pytest
+
+from tests.browser.conftest import CHROMIUM, FLAGS, NO_CHROMIUM, free_port
+
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(600)]
+
+ROOT = Path(__file__).resolve().parents[2]
+PROXY = ROOT / "tests" / "hub" / "node_modules" / ".bin" / "configurable-http-proxy"
+ASSIGNMENT = "deformation"
+COURSE = "deformlab"
+NOTEBOOK = "00_meshes"
+#: Marks the Unix users this test creates, so a later run removes any that an interrupted run left.
+GECOS = "DeformLab JupyterHub test user"
+TOOLS = ("useradd", "userdel", "chpasswd", "unshare", "nsenter", "setpriv", "mount")
+
+# What each student types for `edges`: alice's answer is right; bob forgets to sort each row, so the
+# public test shows him the duplicated edge, and grading takes the function's points.
+EDGES = {
+    "alice": (
+        "import numpy as np\n\n\n"
+        "def edges(F):\n"
+        "    F = np.asarray(F).reshape(-1, 3)\n"
+        "    pairs = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])\n"
+        "    return np.unique(np.sort(pairs, axis=1), axis=0)\n"
+    ),
+    "bob": (
+        "import numpy as np\n\n\n"
+        "def edges(F):\n"
+        "    F = np.asarray(F).reshape(-1, 3)\n"
+        "    pairs = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])\n"
+        "    return np.unique(pairs, axis=0)\n"
+    ),
+}
+EDGES_POINTS = 3.0
+
+# JupyterLab settings for a quiet page with every cell in the DOM (as tests/browser/test_jupyterlab.py).
+LAB_SETTINGS = {
+    "@jupyterlab/apputils-extension/notification.jupyterlab-settings": {"fetchNews": "false", "checkForUpdates": False},
+    "@jupyterlab/notebook-extension/tracker.jupyterlab-settings": {"windowingMode": "none", "autoStartDefaultKernel": True},
+}
+NAMESPACE_SETUP = r"""
+set -e
+mount -t tmpfs -o mode=0755,size=256m deformlab-hub-srv /srv
+install -d -m 1777 /srv/nbgrader/exchange
+mount -t tmpfs -o mode=0755,size=1m deformlab-hub-etc /usr/local/etc
+install -d -m 0755 /usr/local/etc/jupyter
+install -m 0644 "$NBGRADER_GLOBAL_CONFIG" /usr/local/etc/jupyter/nbgrader_config.py
+if [ -n "$HIDDEN_DIR" ]; then
+  mount --bind "$KEEP_DIR" "$HOLD_DIR"
+  mount -t tmpfs -o mode=0755,size=1m deformlab-hub-hidden "$HIDDEN_DIR"
+  mkdir -p "$KEEP_DIR"
+  mount --bind "$HOLD_DIR" "$KEEP_DIR"
+  umount "$HOLD_DIR"
+fi
+exec "$@"
+"""
+
+
+@dataclass
+class User:
+    name: str
+    password: str
+    home: Path
+
+    @property
+    def uid(self) -> int:
+        return pwd.getpwnam(self.name).pw_uid
+
+
+@dataclass
+class Hub:
+    url: str
+    process: subprocess.Popen
+    log: Path
+    base: Path
+    instructor: User
+    students: dict[str, User]  # "alice"/"bob" -> the Unix user
+
+    def log_tail(self, lines: int = 30) -> str:
+        return "\n".join(self.log.read_text(errors="replace").splitlines()[-lines:])
+
+    @property
+    def course(self) -> Path:
+        """The instructor's nbgrader course folder (``assignments/`` of their copy of the kit)."""
+        return self.instructor.home / "deformlab" / "assignments"
+
+    def run_as(self, user: User, argv: list[str], cwd: Path, timeout: float = 300) -> subprocess.CompletedProcess:
+        """Run ``argv`` as ``user`` in the hub's mount namespace (as a shell in their JupyterLab would)."""
+        env = {
+            "HOME": str(user.home), "USER": user.name, "LOGNAME": user.name, "LANG": "C.UTF-8",
+            "PATH": os.pathsep.join([str(Path(sys.executable).parent), "/usr/local/bin", "/usr/bin", "/bin"]),
+        }
+        if os.environ.get("VTK_DEFAULT_OPENGL_WINDOW"):
+            env["VTK_DEFAULT_OPENGL_WINDOW"] = os.environ["VTK_DEFAULT_OPENGL_WINDOW"]
+        command = ["nsenter", f"--mount=/proc/{self.process.pid}/ns/mnt", f"--wd={cwd}", "--",
+                   "setpriv", f"--reuid={user.name}", f"--regid={user.name}", "--init-groups", "--", *argv]
+        done = subprocess.run(command, env=env, capture_output=True, text=True, timeout=timeout)
+        assert done.returncode == 0, (f"{user.name}$ {' '.join(argv)} exited with {done.returncode}:\n"
+                                      f"{done.stdout[-3000:]}\n{done.stderr[-3000:]}")
+        return done
+
+
+def _skip_reason() -> str | None:
+    """Why this machine cannot run the hub, or None."""
+    if sys.platform != "linux":
+        return "the JupyterHub course test runs on Linux"
+    if os.geteuid() != 0:
+        return ("the JupyterHub course test creates Unix users and runs JupyterHub as root, as a hub with local users "
+                "runs; it is running as an ordinary user")
+    missing = [tool for tool in TOOLS if shutil.which(tool) is None]
+    if missing:
+        return f"missing system tools: {', '.join(missing)} (Debian: passwd, util-linux, mount)"
+    if not CHROMIUM.is_file():
+        return NO_CHROMIUM
+    if not PROXY.is_file():
+        return (f"JupyterHub's proxy is not installed ({PROXY} is missing): `make setup` installs it with npm "
+                "(npm ci in tests/hub), which needs Node.js and npm")
+    for path in (Path(sys.executable).parent, ROOT):
+        if _closed_ancestor(path) not in (None, _closed_ancestor(Path(sys.base_prefix))):
+            return f"{path} is in a folder other users cannot enter: the course's users could not run its Python"
+    return None
+
+
+def _closed_ancestor(path: Path) -> Path | None:
+    """The first folder above or at ``path`` that other users cannot enter, or None."""
+    path = path.resolve()
+    for folder in [*reversed(path.parents), path]:
+        if folder.is_dir() and not folder.stat().st_mode & stat.S_IXOTH:
+            return folder
+    return None
+
+
+@contextlib.contextmanager
+def unix_users(names: list[str], base: Path):
+    """Create local users (home under ``base/home``, a random password each); remove them afterwards."""
+    for entry in pwd.getpwall():  # left by an interrupted run
+        if entry.pw_gecos == GECOS:
+            subprocess.run(["userdel", "--force", "--remove", entry.pw_name], capture_output=True)
+    (base / "home").mkdir(mode=0o755)
+    users = []
+    try:
+        for name in names:
+            user = User(name, secrets.token_urlsafe(12), base / "home" / name)
+            subprocess.run(["useradd", "--create-home", "--home-dir", str(user.home), "--shell", "/bin/bash",
+                            "--user-group", "--comment", GECOS, name], check=True, capture_output=True)
+            users.append(user)
+            subprocess.run(["chpasswd"], input=f"{name}:{user.password}\n", text=True, check=True, capture_output=True)
+        yield users
+    finally:
+        uids = set()
+        for user in users:
+            with contextlib.suppress(KeyError):
+                uids.add(user.uid)
+        # Whatever the hub left running as these users was started by this test: end it by pid.
+        for process in psutil.process_iter(["uids"]):
+            if process.info["uids"] and process.info["uids"].real in uids:
+                with contextlib.suppress(psutil.Error):
+                    process.kill()
+        for user in users:
+            subprocess.run(["userdel", "--force", "--remove", user.name], capture_output=True)
+
+
+def write_as(user: User, path: Path, text: str) -> None:
+    """Write ``path`` (and its missing parents) owned by ``user``."""
+    entry = pwd.getpwnam(user.name)
+    missing = [p for p in reversed(path.parents) if not p.exists()]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    for p in [*missing, path]:
+        os.chown(p, entry.pw_uid, entry.pw_gid)
+
+
+def build_course(instructor: User) -> None:
+    """The instructor's copy of the kit with the assignment's source notebook ``00_meshes``."""
+    from grader.build.authored import read_authored
+    from grader.build.source_notebook import build_source_notebook
+
+    kit = instructor.home / "deformlab"
+    source = kit / "assignments" / "source" / ASSIGNMENT / f"{NOTEBOOK}.ipynb"
+    write_as(instructor, kit / "assignments" / "nbgrader_config.py", (ROOT / "assignments" / "nbgrader_config.py").read_text())
+    write_as(instructor, source, nbformat.writes(build_source_notebook(read_authored(ROOT / "notebooks" / ASSIGNMENT / f"{NOTEBOOK}.py"))))
+    for name in ("data", "starter", "notebooks"):
+        (kit / name).symlink_to(ROOT / name, target_is_directory=True)
+        os.lchown(kit / name, instructor.uid, pwd.getpwnam(instructor.name).pw_gid)
+    os.chmod(instructor.home, 0o700)  # the course, its gradebook and the submissions are the instructor's alone
+
+
+def hub_config(base: Path, port: int, users: list[User]) -> str:
+    env = {"VTK_DEFAULT_OPENGL_WINDOW": os.environ["VTK_DEFAULT_OPENGL_WINDOW"]} if os.environ.get("VTK_DEFAULT_OPENGL_WINDOW") else {}
+    return f"""
+c = get_config()
+c.JupyterHub.bind_url = "http://127.0.0.1:{port}"
+c.JupyterHub.hub_ip = "127.0.0.1"
+c.JupyterHub.hub_port = {free_port()}
+c.ConfigurableHTTPProxy.command = [{str(PROXY)!r}]
+c.ConfigurableHTTPProxy.api_url = "http://127.0.0.1:{free_port()}"
+c.JupyterHub.db_url = "sqlite:///{base / 'hub' / 'jupyterhub.sqlite'}"
+c.JupyterHub.cookie_secret_file = {str(base / 'hub' / 'jupyterhub_cookie_secret')!r}
+c.JupyterHub.authenticator_class = "pam"
+c.Authenticator.allowed_users = {sorted(u.name for u in users)!r}
+c.JupyterHub.spawner_class = "localprocess"
+c.Spawner.cmd = [{str(Path(sys.executable).parent / 'jupyterhub-singleuser')!r}]
+c.Spawner.default_url = "/lab"
+c.Spawner.args = ["--LabApp.news_url=None",
+                  "--LabApp.check_for_updates_class=jupyterlab.handlers.announcements.NeverCheckForUpdate"]
+c.Spawner.environment = {env!r}
+c.Spawner.start_timeout = 180
+c.Spawner.http_timeout = 180
+"""
+
+
+NBGRADER_GLOBAL_CONFIG = f"""
+c = get_config()
+c.CourseDirectory.course_id = "{COURSE}"
+c.Exchange.root = "/srv/nbgrader/exchange"
+"""
+
+
+@pytest.fixture(scope="module")
+def hub():
+    reason = _skip_reason()
+    if reason:
+        print(f"skipping the JupyterHub course test: {reason}")
+        pytest.skip(reason)
+    base = Path(tempfile.mkdtemp(prefix="deformlab-hub-"))
+    base.chmod(0o755)
+    tag = secrets.token_hex(2)
+    try:
+        with unix_users([f"dl{tag}-ta", f"dl{tag}-alice", f"dl{tag}-bob"], base) as (instructor, alice, bob):
+            build_course(instructor)
+            for student in (alice, bob):
+                for name, settings in LAB_SETTINGS.items():
+                    write_as(student, student.home / ".jupyter" / "lab" / "user-settings" / name, json.dumps(settings))
+            (base / "hub").mkdir(mode=0o700)
+            (base / "hold").mkdir(mode=0o700)
+            port = free_port()
+            (base / "hub" / "jupyterhub_config.py").write_text(hub_config(base, port, [instructor, alice, bob]))
+            (base / "hub" / "nbgrader_config.py").write_text(NBGRADER_GLOBAL_CONFIG)
+            closed = _closed_ancestor(Path(sys.base_prefix))
+            keep = Path(sys.base_prefix).resolve()
+            env = {
+                "PATH": os.pathsep.join([str(Path(sys.executable).parent), "/usr/local/bin", "/usr/sbin", "/usr/bin", "/sbin", "/bin"]),
+                "HOME": str(base / "hub"), "LANG": "C.UTF-8", "NBGRADER_GLOBAL_CONFIG": str(base / "hub" / "nbgrader_config.py"),
+                "HIDDEN_DIR": str(closed) if closed else "", "HOLD_DIR": str(base / "hold"),
+                # the closed folder's child on the interpreter's path: all that the namespace shows of it
+                "KEEP_DIR": str(closed / keep.relative_to(closed).parts[0]) if closed else "",
+            }
+            log = base / "jupyterhub.log"
+            with open(log, "wb") as out:
+                process = subprocess.Popen(
+                    ["unshare", "--mount", "--propagation", "private", "--", "/bin/sh", "-c", NAMESPACE_SETUP, "sh",
+                     str(Path(sys.executable).parent / "jupyterhub"), "-f", str(base / "hub" / "jupyterhub_config.py")],
+                    cwd=base / "hub", env=env, stdout=out, stderr=subprocess.STDOUT)
+            hub = Hub(f"http://127.0.0.1:{port}", process, log, base, instructor, {"alice": alice, "bob": bob})
+            try:
+                deadline = time.monotonic() + 90
+                while True:
+                    if process.poll() is not None:
+                        pytest.fail(f"jupyterhub exited with code {process.returncode}:\n{hub.log_tail()}")
+                    with contextlib.suppress(OSError):
+                        with urllib.request.urlopen(f"{hub.url}/hub/health", timeout=5) as answer:
+                            if answer.status == 200:
+                                break
+                    if time.monotonic() > deadline:
+                        pytest.fail(f"jupyterhub did not answer within 90 s:\n{hub.log_tail()}")
+                    time.sleep(0.5)
+                yield hub
+            finally:
+                process.send_signal(signal.SIGTERM)  # the hub stops every user's server and its proxy
+                try:
+                    process.wait(timeout=60)
+                except subprocess.TimeoutExpired:
+                    process.kill()
+                    process.wait()
+    finally:
+        shutil.rmtree(base, ignore_errors=True)
+
+
+
+# --- the students' side, in Chromium -------------------------------------------------------------
+
+PANEL = ".jp-NotebookPanel:not(.lm-mod-hidden)"
+ASSIGNMENTS = "#nbgrader-assignment-list"
+UI_TIMEOUT_MS = 120_000
+
+
+def start_login(page, hub: Hub, user: User) -> None:
+    """Fill in the hub's login form; the hub then starts the user's JupyterLab (waited for by :func:`lab_ready`)."""
+    page.goto(f"{hub.url}/hub/login")
+    page.fill("#username_input", user.name)
+    page.fill("#password_input", user.password)
+    page.click("#login_submit")
+
+
+def lab_ready(page, hub: Hub, user: User) -> None:
+    try:
+        page.wait_for_url(re.compile(f"/user/{user.name}/lab"), timeout=UI_TIMEOUT_MS * 2)
+        page.wait_for_selector("#jp-main-dock-panel", timeout=UI_TIMEOUT_MS)
+    except Exception:
+        pytest.fail(f"{user.name}'s JupyterLab did not open (page {page.url}):\n{hub.log_tail()}")
+
+
+def open_assignments(page) -> None:
+    """Nbgrader > Assignment List: the Assignments tab, loaded afresh."""
+    page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Nbgrader$")).click()
+    page.locator(".lm-Menu-itemLabel", has_text=re.compile(r"^Assignment List$")).click()
+    page.wait_for_selector(f"{ASSIGNMENTS}:not(.lm-mod-hidden)", timeout=UI_TIMEOUT_MS)
+    page.locator(f"{ASSIGNMENTS} #refresh_assignments_list").click()
+
+
+def assignment_row(page, section: str):
+    """The assignment's row in ``section`` (released, fetched or submitted) of the Assignments tab."""
+    return page.locator(f"{ASSIGNMENTS} #{section}_assignments_list > .list_item", has_text=ASSIGNMENT)
+
+
+def click_and_wait(page, section: str, button: str, then: str, shot: Path) -> None:
+    """Click ``button`` on the assignment's row in ``section`` and wait for the row to appear in ``then``."""
+    row = assignment_row(page, section)
+    row.wait_for(timeout=UI_TIMEOUT_MS)
+    row.locator("button", has_text=re.compile(f"^{button}$")).click()
+    try:
+        assignment_row(page, then).wait_for(timeout=UI_TIMEOUT_MS)
+    except Exception:
+        page.screenshot(path=str(shot))
+        pytest.fail(f"after '{button}', {ASSIGNMENT} did not show under {then}: {shot}")
+
+
+def cell(page, text: str):
+    return page.locator(f"{PANEL} .jp-CodeCell", has_text=text).first
+
+
+def write_edges_and_run(page, code: str, shot: Path) -> str:
+    """Replace the ``edges`` stub with ``code``, Run > Run All Cells, save; returns what the tests cell shows."""
+    page.wait_for_selector(f"{PANEL} .jp-Notebook-ExecutionIndicator[data-status='idle']", timeout=UI_TIMEOUT_MS)
+    editor = cell(page, "def edges(F):").locator(".cm-content")
+    editor.click()
+    page.keyboard.press("Control+a")
+    page.keyboard.insert_text(code)  # as pasted: no auto-indent
+    page.locator(".lm-MenuBar-itemLabel", has_text=re.compile(r"^Run$")).click()
+    page.locator(".lm-Menu-itemLabel", has_text=re.compile(r"^Run All Cells$")).click()
+    tests = cell(page, "_E = edges(F_square)")
+    try:
+        # Run All stops at the first failing cell: the tests cell has run once it shows a count.
+        page.wait_for_function(
+            "([el, panel]) => /\\[\\d+\\]/.test(el.querySelector('.jp-InputPrompt').textContent) && "
+            "document.querySelector(panel + ' .jp-Notebook-ExecutionIndicator')?.dataset.status === 'idle'",
+            arg=[tests.element_handle(), PANEL], polling=500, timeout=UI_TIMEOUT_MS)
+    except Exception:
+        page.screenshot(path=str(shot))
+        pytest.fail(f"the edges tests cell did not run: {shot}")
+    page.keyboard.press("Control+s")
+    page.wait_for_function("() => !document.querySelector('.lm-TabBar-tab.jp-mod-current.jp-mod-dirty')",
+                           polling=200, timeout=30_000)
+    page.screenshot(path=str(shot))
+    return tests.locator(".jp-OutputArea").inner_text()
+
+
+def fetch_and_open_feedback(page, student: str, shot: Path) -> str:
+    """Fetch Feedback in the Assignments tab, follow "(view feedback)" and open the page in JupyterLab.
+
+    Returns
+    -------
+    str
+        The text JupyterLab's HTML viewer shows.
+    """
+    open_assignments(page)
+    row = assignment_row(page, "submitted")
+    row.wait_for(timeout=UI_TIMEOUT_MS)
+    row.get_by_text("(feedback available to fetch)").wait_for(timeout=UI_TIMEOUT_MS)
+    row.locator("button", has_text=re.compile("^Fetch Feedback$")).click()
+    view = assignment_row(page, "submitted").get_by_text("(view feedback)")
+    try:
+        view.wait_for(timeout=UI_TIMEOUT_MS)
+    except Exception:
+        page.screenshot(path=str(shot))
+        pytest.fail(f"{student}: no '(view feedback)' link after Fetch Feedback: {shot}")
+    view.click()  # the file browser goes to the feedback's folder
+    item = page.locator(".jp-DirListing-item", has_text=f"{NOTEBOOK}.html")
+    item.wait_for(timeout=UI_TIMEOUT_MS)
+    item.dblclick()
+    frame = page.frame_locator(".jp-MainAreaWidget:not(.lm-mod-hidden) iframe")
+    try:
+        frame.locator("p.score").wait_for(timeout=UI_TIMEOUT_MS)
+    except Exception:
+        page.screenshot(path=str(shot))
+        pytest.fail(f"{student}: JupyterLab did not show the feedback page: {shot}")
+    page.screenshot(path=str(shot))
+    return frame.locator("body").inner_text()
+
+
+@dataclass
+class Loop:
+    """What the course loop left: what each student saw, the instructor's outputs, the screenshots."""
+
+    hub: Hub
+    shots: Path
+    public_tests: dict[str, str]  # student -> the output of the edges tests cell
+    feedback_shown: dict[str, str]  # student -> the text of the feedback page JupyterLab showed
+    grading: Path  # the instructor's `deformlab grade --out`
+    commands: dict[str, str]  # what the instructor's commands printed
+    seconds: dict[str, float]
+
+
+@pytest.fixture(scope="module")
+def loop(hub, tmp_path_factory) -> Loop:
+    sync_api = pytest.importorskip("playwright.sync_api", reason="the playwright package (the dev extra) is not installed")
+    shots = Path(os.environ.get("DEFORMLAB_HUB_SHOTS") or tmp_path_factory.mktemp("hub-shots"))
+    shots.mkdir(parents=True, exist_ok=True)
+    ta, course, grading = hub.instructor, hub.course, hub.course.parent / "grading"
+    commands, seconds, public, shown = {}, {}, {}, {}
+    started = time.monotonic()
+
+    def instructor(*argv: str) -> None:
+        commands[" ".join(argv)] = (lambda done: done.stdout + done.stderr)(hub.run_as(ta, list(argv), course))
+
+    instructor("nbgrader", "generate_assignment", ASSIGNMENT, "--force")
+    instructor("nbgrader", "release_assignment", ASSIGNMENT)
+    with sync_api.sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
+        try:
+            pages = {k: browser.new_context(viewport={"width": 1400, "height": 1000}).new_page() for k in hub.students}
+            for k, page in pages.items():  # both servers start at once
+                start_login(page, hub, hub.students[k])
+            for k, page in pages.items():
+                lab_ready(page, hub, hub.students[k])
+            seconds["log in, JupyterLab up"] = time.monotonic() - started
+            for k, page in pages.items():
+                open_assignments(page)
+                click_and_wait(page, "released", "Fetch", "fetched", shots / f"{k}-fetch.png")
+                row = assignment_row(page, "fetched")
+                row.locator(".assignment-notebooks-link").click()
+                row.locator(".nested_list_item a", has_text=NOTEBOOK).click()
+                public[k] = write_edges_and_run(page, EDGES[k], shots / f"{k}-public-tests.png")
+                open_assignments(page)
+                click_and_wait(page, "fetched", "Submit", "submitted", shots / f"{k}-submit.png")
+            seconds["students: fetch, edit, run, submit"] = time.monotonic() - started - sum(seconds.values())
+
+            instructor("nbgrader", "collect", ASSIGNMENT)
+            instructor("deformlab", "grade", "submitted", "--out", str(grading), "--workers", "2")
+            instructor("deformlab", "export", str(grading), "--to", "nbgrader-feedback", "--submitted", "submitted")
+            instructor("nbgrader", "release_feedback", ASSIGNMENT)
+            instructor("deformlab", "export", str(grading), "--to", "canvas")
+            instructor("deformlab", "export", str(grading), "--to", "moodle")
+            seconds["instructor: collect, grade, return feedback"] = time.monotonic() - started - sum(seconds.values())
+
+            for k, page in pages.items():
+                shown[k] = fetch_and_open_feedback(page, k, shots / f"{k}-feedback.png")
+            seconds["students: fetch and open feedback"] = time.monotonic() - started - sum(seconds.values())
+        finally:
+            browser.close()
+    return Loop(hub, shots, public, shown, grading, commands, seconds)
+
+
+def test_each_student_fetches_the_assignment_runs_the_public_tests_in_jupyterlab_and_submits(loop):
+    hub = loop.hub
+    assert loop.public_tests["alice"].strip() == "", f"alice's edges passes its tests: {loop.shots / 'alice-public-tests.png'}"
+    assert "the shared edge (0, 2) is listed twice" in loop.public_tests["bob"], (
+        f"bob's public test names his bug; it showed {loop.public_tests['bob']!r}: {loop.shots / 'bob-public-tests.png'}")
+    for k, user in hub.students.items():
+        saved = nbformat.read(user.home / ASSIGNMENT / f"{NOTEBOOK}.ipynb", as_version=4)
+        assert any(c.source.strip() == EDGES[k].strip() for c in saved.cells), f"{k}'s notebook was saved with the typed edges"
+        collected = hub.course / "submitted" / user.name / ASSIGNMENT
+        assert nbformat.read(collected / f"{NOTEBOOK}.ipynb", as_version=4) == saved, f"nbgrader collect brought {k}'s notebook"
+        assert (collected / "timestamp.txt").is_file() and (collected / "submission_secret.txt").is_file()
+
+
+def test_the_instructors_grades_reach_grades_csv_the_gradebook_and_the_lms_exports(loop):
+    from nbgrader.api import Gradebook
+
+    hub = loop.hub
+    names = {user.name: k for k, user in hub.students.items()}
+    with open(loop.grading / "grades.csv", newline="") as fh:
+        rows = {names[r["student_id"]]: r for r in csv.DictReader(fh)}
+    assert sorted(rows) == ["alice", "bob"] and {r["notebook"] for r in rows.values()} == {NOTEBOOK}
+    assert float(rows["alice"]["score"]) == EDGES_POINTS, rows["alice"]
+    assert float(rows["bob"]["score"]) == 0.0, rows["bob"]
+    with Gradebook(f"sqlite:///{hub.course / 'gradebook.db'}", course_id=COURSE) as gb:
+        for k, user in hub.students.items():
+            submission = gb.find_submission(ASSIGNMENT, user.name)
+            assert submission.score == float(rows[k]["score"]), f"{k}: gradebook {submission.score}, grades.csv {rows[k]['score']}"
+            edges_grade = gb.find_grade("test_edges", NOTEBOOK, ASSIGNMENT, user.name)
+            assert edges_grade.score == (EDGES_POINTS if k == "alice" else 0.0)
+    with open(loop.grading / "canvas.csv", newline="") as fh:
+        canvas = {names[r["SIS Login ID"]]: r for r in csv.DictReader(fh) if r["SIS Login ID"] in names}
+    with open(loop.grading / "moodle.csv", newline="") as fh:
+        moodle = list(csv.reader(fh))
+    for k in ("alice", "bob"):
+        assert float(canvas[k][ASSIGNMENT]) == float(rows[k]["score"]), canvas
+        assert [float(r[1]) for r in moodle[1:] if r[0] == hub.students[k].name] == [float(rows[k]["score"])], moodle
+
+
+def test_each_student_fetches_the_returned_feedback_and_reads_it_in_jupyterlab(loop, report_summary):
+    hub = loop.hub
+    for k, user in hub.students.items():
+        pages = list((user.home / ASSIGNMENT / "feedback").glob(f"*/{NOTEBOOK}.html"))
+        assert len(pages) == 1, f"{k} fetched {pages}"
+        text = loop.feedback_shown[k]
+        score = EDGES_POINTS if k == "alice" else 0.0
+        assert f"{NOTEBOOK} — {user.name}" in text and f"Autograded score: {score:.2f} / " in text, (
+            f"{k}'s feedback in JupyterLab: {loop.shots / f'{k}-feedback.png'}\n{text[:500]}")
+        other = next(u for j, u in hub.students.items() if j != k)
+        assert other.name not in pages[0].read_text(), f"{k}'s feedback names {other.name}"
+    report_summary("jupyterhub", "\n".join(
+        [f"the course loop on JupyterHub ({sum(loop.seconds.values()):.0f} s; screenshots in {loop.shots}):"]
+        + [f"  {what:<45} {s:6.1f} s" for what, s in loop.seconds.items()]))
