@@ -58,8 +58,9 @@ PROXY = ROOT / "tests" / "hub" / "node_modules" / ".bin" / "configurable-http-pr
 ASSIGNMENT = "deformation"
 COURSE = "deformlab"
 NOTEBOOK = "00_meshes"
-#: Marks the Unix users this test creates, so a later run removes any that an interrupted run left.
-GECOS = "DeformLab JupyterHub test user"
+#: Marks the Unix users this test creates with the creating process's pid, so that a later run removes
+#: those an interrupted run left (and never those of a run still going).
+GECOS = "DeformLab JupyterHub test user of pid {pid}"
 TOOLS = ("useradd", "userdel", "chpasswd", "unshare", "nsenter", "setpriv", "mount")
 
 # What each student types for `edges`: alice's answer is right; bob forgets to sort each row, so the
@@ -184,7 +185,8 @@ def _closed_ancestor(path: Path) -> Path | None:
 def unix_users(names: list[str], base: Path):
     """Create local users (home under ``base/home``, a random password each); remove them afterwards."""
     for entry in pwd.getpwall():  # left by an interrupted run
-        if entry.pw_gecos == GECOS:
+        left = re.fullmatch(re.escape(GECOS).replace(r"\{pid\}", r"(\d+)"), entry.pw_gecos)
+        if left and not psutil.pid_exists(int(left.group(1))):
             subprocess.run(["userdel", "--force", "--remove", entry.pw_name], capture_output=True)
     (base / "home").mkdir(mode=0o755)
     users = []
@@ -193,7 +195,8 @@ def unix_users(names: list[str], base: Path):
             user = User(name, secrets.token_urlsafe(12), base / "home" / name)
             # Home folders 0700, not Debian's default 0755, or students read each other's work.
             subprocess.run(["useradd", "--create-home", "--key", "HOME_MODE=0700", "--home-dir", str(user.home),
-                            "--shell", "/bin/bash", "--user-group", "--comment", GECOS, name], check=True, capture_output=True)
+                            "--shell", "/bin/bash", "--user-group", "--comment", GECOS.format(pid=os.getpid()), name],
+                           check=True, capture_output=True)
             users.append(user)
             subprocess.run(["chpasswd"], input=f"{name}:{user.password}\n", text=True, check=True, capture_output=True)
         yield users
@@ -540,6 +543,7 @@ def loop(hub, tmp_path_factory) -> Loop:
             phase("students: fetch and open feedback")
         finally:
             browser.close()
+    (shots / "instructor-commands.txt").write_text("".join(f"$ {c}\n{out}\n" for c, out in commands.items()))
     return Loop(hub, shots, public, shown, grading, commands, seconds, command_seconds)
 
 
