@@ -63,8 +63,8 @@ NOTEBOOK = "00_meshes"
 GECOS = "DeformLab JupyterHub test user of pid {pid}"
 TOOLS = ("useradd", "userdel", "chpasswd", "unshare", "nsenter", "setpriv", "mount")
 
-# What each student types for `edges`: alice's answer is right; bob forgets to sort each row, so the
-# public test shows him the duplicated edge, and grading takes the function's points.
+# What each student types for `edges`, each in their own words: alice's answer is right; bob forgets
+# to sort each row, so the public test shows him the duplicated edge, and grading takes its points.
 EDGES = {
     "alice": (
         "import numpy as np\n\n\n"
@@ -76,9 +76,9 @@ EDGES = {
     "bob": (
         "import numpy as np\n\n\n"
         "def edges(F):\n"
-        "    F = np.asarray(F).reshape(-1, 3)\n"
-        "    pairs = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])\n"
-        "    return np.unique(pairs, axis=0)\n"
+        "    T = np.array(F)\n"
+        "    E = np.concatenate((T[:, :2], T[:, 1:], T[:, ::-2]))  # (i, j), (j, k), (k, i)\n"
+        "    return np.unique(E, axis=0)\n"
     ),
 }
 EDGES_POINTS = 3.0
@@ -161,6 +161,8 @@ def _skip_reason() -> str | None:
     missing = [tool for tool in TOOLS if shutil.which(tool) is None]
     if missing:
         return f"missing system tools: {', '.join(missing)} (Debian: passwd, util-linux, mount)"
+    if subprocess.run(["unshare", "--mount", "true"], capture_output=True).returncode != 0:
+        return "this machine refuses a private mount namespace (unshare --mount), in which the test runs the hub"
     if not CHROMIUM.is_file():
         return NO_CHROMIUM
     if not PROXY.is_file():
@@ -508,14 +510,14 @@ def loop(hub, tmp_path_factory) -> Loop:
         commands[" ".join(argv)] = done.stdout + done.stderr
         command_seconds[" ".join(a for a in argv if not a.startswith("/"))] = time.monotonic() - began
 
-    instructor("nbgrader", "generate_assignment", ASSIGNMENT, "--force")
-    instructor("nbgrader", "release_assignment", ASSIGNMENT)
     with sync_api.sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
         try:
             pages = {k: browser.new_context(viewport={"width": 1400, "height": 1000}).new_page() for k in hub.students}
-            for k, page in pages.items():  # both servers start at once
+            for k, page in pages.items():  # both servers start at once, while the instructor releases
                 start_login(page, hub, hub.students[k])
+            instructor("nbgrader", "generate_assignment", ASSIGNMENT, "--force")
+            instructor("nbgrader", "release_assignment", ASSIGNMENT)
             for k, page in pages.items():
                 lab_ready(page, hub, hub.students[k])
             phase("release; log in, JupyterLab up")
@@ -531,7 +533,7 @@ def loop(hub, tmp_path_factory) -> Loop:
             phase("students: fetch, edit, run, submit")
 
             instructor("nbgrader", "collect", ASSIGNMENT)
-            instructor("deformlab", "grade", "submitted", "--out", str(grading), "--workers", "2")
+            instructor("deformlab", "grade", "submitted", "--out", str(grading), "--workers", "1")
             instructor("deformlab", "export", str(grading), "--to", "nbgrader-feedback", "--submitted", "submitted")
             instructor("nbgrader", "release_feedback", ASSIGNMENT)
             instructor("deformlab", "export", str(grading), "--to", "canvas")
