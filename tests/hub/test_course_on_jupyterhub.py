@@ -96,11 +96,11 @@ mount -t tmpfs -o mode=0755,size=1m deformlab-hub-etc /usr/local/etc
 install -d -m 0755 /usr/local/etc/jupyter
 install -m 0644 "$NBGRADER_GLOBAL_CONFIG" /usr/local/etc/jupyter/nbgrader_config.py
 if [ -n "$HIDDEN_DIR" ]; then
-  mount --bind "$KEEP_DIR" "$HOLD_DIR"
+  IFS=:
+  i=0; for keep in $KEEP_DIRS; do mkdir "$HOLD_DIR/$i"; mount --bind "$keep" "$HOLD_DIR/$i"; i=$((i + 1)); done
   mount -t tmpfs -o mode=0755,size=1m deformlab-hub-hidden "$HIDDEN_DIR"
-  mkdir -p "$KEEP_DIR"
-  mount --bind "$HOLD_DIR" "$KEEP_DIR"
-  umount "$HOLD_DIR"
+  i=0; for keep in $KEEP_DIRS; do mkdir -p "$keep"; mount --bind "$HOLD_DIR/$i" "$keep"; umount "$HOLD_DIR/$i"; i=$((i + 1)); done
+  unset IFS
 fi
 exec "$@"
 """
@@ -168,10 +168,37 @@ def _skip_reason() -> str | None:
     if not PROXY.is_file():
         return (f"JupyterHub's proxy is not installed ({PROXY} is missing): `make setup` installs it with npm "
                 "(npm ci in tests/hub), which needs Node.js and npm")
-    for path in (Path(sys.executable).parent, ROOT):
-        if _closed_ancestor(path) not in (None, _closed_ancestor(Path(sys.base_prefix))):
-            return f"{path} is in a folder other users cannot enter: the course's users could not run its Python"
+    try:
+        namespace_view()
+    except ValueError as e:
+        return str(e)
     return None
+
+
+def namespace_view() -> tuple[Path | None, list[Path]]:
+    """The folder on the way to the interpreter or this checkout that other users cannot enter, and
+    the folders right under it that the namespace shows in its place; ``(None, [])`` where every
+    user can reach both.
+
+    Raises
+    ------
+    ValueError
+        If the users' way is closed further down, or by more than one folder.
+    """
+    needed = [Path(p).resolve() for p in (sys.base_prefix, sys.prefix, ROOT)]
+    closed = {folder for folder in map(_closed_ancestor, needed) if folder}
+    if not closed:
+        return None, []
+    hidden = min(closed, key=lambda folder: len(folder.parts))
+    kept = sorted({hidden / p.relative_to(hidden).parts[0] for p in needed if p.is_relative_to(hidden) and p != hidden})
+    for p in needed:
+        # past the hidden folder, every folder on the way must be open to other users
+        shut = p if p == hidden else next(
+            (f for f in [*reversed(p.parents), p] if f != hidden and not f.stat().st_mode & stat.S_IXOTH), None)
+        if shut:
+            raise ValueError(f"{shut} is a folder other users cannot enter: the course's users could not run "
+                             "this checkout's Python")
+    return hidden, kept
 
 
 def _closed_ancestor(path: Path) -> Path | None:
@@ -282,7 +309,7 @@ def hub():
     if reason:
         print(f"skipping the JupyterHub course test: {reason}")
         pytest.skip(reason)
-    base = Path(tempfile.mkdtemp(prefix="deformlab-hub-"))
+    base = Path(tempfile.mkdtemp(prefix="deformlab-hub-", dir="/tmp"))  # where every user may enter
     base.chmod(0o755)
     tag = secrets.token_hex(2)
     try:
@@ -296,14 +323,12 @@ def hub():
             port = free_port()
             (base / "hub" / "jupyterhub_config.py").write_text(hub_config(base, port, [instructor, alice, bob]))
             (base / "hub" / "nbgrader_config.py").write_text(NBGRADER_GLOBAL_CONFIG)
-            closed = _closed_ancestor(Path(sys.base_prefix))
-            keep = Path(sys.base_prefix).resolve()
+            hidden, kept = namespace_view()
             env = {
                 "PATH": os.pathsep.join([str(Path(sys.executable).parent), "/usr/local/bin", "/usr/sbin", "/usr/bin", "/sbin", "/bin"]),
                 "HOME": str(base / "hub"), "LANG": "C.UTF-8", "NBGRADER_GLOBAL_CONFIG": str(base / "hub" / "nbgrader_config.py"),
-                "HIDDEN_DIR": str(closed) if closed else "", "HOLD_DIR": str(base / "hold"),
-                # the closed folder's child on the interpreter's path: all that the namespace shows of it
-                "KEEP_DIR": str(closed / keep.relative_to(closed).parts[0]) if closed else "",
+                # what the namespace shows of the folder the users cannot enter
+                "HIDDEN_DIR": str(hidden or ""), "KEEP_DIRS": ":".join(map(str, kept)), "HOLD_DIR": str(base / "hold"),
             }
             log = base / "jupyterhub.log"
             with open(log, "wb") as out:
