@@ -11,8 +11,9 @@ and two students as Unix users (it must run as root) and removes them afterwards
 Everything runs in a private mount namespace, so the machine's ``/srv`` and ``/usr/local/etc``
 are left alone: the namespace shows a fresh ``/srv`` and ``/usr/local/etc/jupyter``. Where the
 Python interpreter lives in a folder other users cannot enter (pyenv under ``/root``, mode 0700),
-the namespace shows that folder with only the interpreter's tree in it, as if Python had been
-installed where every user can run it, as a hub's admin installs it. Every user's server runs this
+the namespace shows in that folder only what the users need (the interpreter's tree; the checkout,
+if it is there too), as if Python had been installed where every user can run it, as a hub's
+admin installs it. Every user's server runs this
 checkout's environment; a course's students run the student bundle's requirements instead (README,
 "Run the course on JupyterHub"), and their notebooks import ``starter`` from the release, which
 carries it: the test checks that the fetched assignment holds ``starter/`` and ``data/``.
@@ -134,7 +135,8 @@ class Hub:
         """The instructor's nbgrader course folder (``assignments/`` of their copy of the kit)."""
         return self.instructor.home / "deformlab" / "assignments"
 
-    def run_as(self, user: User, argv: list[str], cwd: Path, timeout: float = 300, check: bool = True) -> subprocess.CompletedProcess:
+    def run_as(self, user: User, argv: list[str], cwd: Path, timeout: float = 300,
+               check: bool = True) -> subprocess.CompletedProcess:
         """Run ``argv`` as ``user`` in the hub's mount namespace (as a shell in their JupyterLab would);
         with ``check``, fail unless it exits with 0."""
         env = {
@@ -146,8 +148,8 @@ class Hub:
         command = ["nsenter", f"--mount=/proc/{self.process.pid}/ns/mnt", f"--wd={cwd}", "--",
                    "setpriv", f"--reuid={user.name}", f"--regid={user.name}", "--init-groups", "--", *argv]
         done = subprocess.run(command, env=env, capture_output=True, text=True, timeout=timeout)
-        assert done.returncode == 0 or not check, (f"{user.name}$ {' '.join(argv)} exited with {done.returncode}:\n"
-                                      f"{done.stdout[-3000:]}\n{done.stderr[-3000:]}")
+        assert done.returncode == 0 or not check, (
+            f"{user.name}$ {' '.join(argv)} exited with {done.returncode}:\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}")
         return done
 
 
