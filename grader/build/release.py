@@ -359,7 +359,8 @@ def check_demo_execution(demo: nbformat.NotebookNode, report: ReleaseReport) -> 
 
 
 def course_files(paths: CoursePaths):
-    """What students need beside the notebooks: ``starter/`` and ``data/`` (code, meshes, READMEs).
+    """What students need beside the notebooks: ``starter/`` and ``data/`` (code, meshes, READMEs), the
+    files :func:`write_bundle` puts in the student bundle.
 
     Yields
     ------
@@ -400,8 +401,10 @@ def write_bundle(paths: CoursePaths, assignment: str) -> Path:
         for nb in sorted((paths.release / assignment).glob("*.ipynb")):
             z.write(nb, f"{root}/{nb.name}")
         z.writestr(f"{root}/{DEMO}.ipynb", nbformat.writes(demo_notebook(paths)))
-        for f, relative in course_files(paths):
-            z.write(f, f"{root}/{relative}")
+        for folder in ("starter", "data"):
+            for f in sorted((paths.root / folder).rglob("*")):
+                if f.is_file() and "__pycache__" not in f.parts and f.suffix in (".py", ".npz", ".md"):
+                    z.write(f, f"{root}/{f.relative_to(paths.root)}")
         z.writestr(f"{root}/requirements.txt", STUDENT_REQUIREMENTS)
         z.writestr(f"{root}/README.md", STUDENT_README)
         z.write(student_check.__file__, f"{root}/check_notebook.py")
