@@ -586,6 +586,9 @@ def test_each_student_fetches_the_assignment_runs_the_public_tests_in_jupyterlab
         # The notebook imports starter and loads meshes from data/: the exchange brought both along.
         assert (fetched / "starter" / "__init__.py").is_file() and (fetched / "data" / "torus.npz").is_file(), (
             f"{k} fetched {sorted(p.name for p in fetched.iterdir())}")
+        # A kernel starts in the notebook's folder: Python there imports the fetched starter, not the kit's.
+        where = hub.run_as(user, [sys.executable, "-c", "import starter; print(starter.__file__)"], fetched).stdout
+        assert where.strip() == str(fetched / "starter" / "__init__.py"), where
         saved = nbformat.read(fetched / f"{NOTEBOOK}.ipynb", as_version=4)
         assert any(c.source.strip() == EDGES[k].strip() for c in saved.cells), f"{k}'s notebook was saved with the typed edges"
         collected = hub.course / "submitted" / user.name / ASSIGNMENT
