@@ -60,12 +60,15 @@ def _version() -> str:
 
 
 def _cmd_build(args) -> int:
+    from grader.build.release import add_course_files
     from grader.build.source_notebook import build_sources
     from grader.paths import course_paths
 
     paths = course_paths()
     for path in build_sources(paths.notebooks, paths.source, args.assignment):
         print(f"wrote {path.relative_to(paths.root)}")
+    add_course_files(paths, args.assignment)
+    print(f"copied starter/ and data/ into {(paths.source / args.assignment).relative_to(paths.root)}/ (released with the notebooks)")
     return 0
 
 

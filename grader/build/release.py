@@ -358,6 +358,37 @@ def check_demo_execution(demo: nbformat.NotebookNode, report: ReleaseReport) -> 
             report.problems.append(f"demo {DEMO}.ipynb does not show {what} ({mime})")
 
 
+def course_files(paths: CoursePaths):
+    """What students need beside the notebooks: ``starter/`` and ``data/`` (code, meshes, READMEs), the
+    files :func:`write_bundle` puts in the student bundle.
+
+    Yields
+    ------
+    (Path, Path)
+        Each file and its path relative to the course kit.
+    """
+    for folder in ("starter", "data"):
+        for f in sorted((paths.root / folder).rglob("*")):
+            if f.is_file() and "__pycache__" not in f.parts and f.suffix in (".py", ".npz", ".md"):
+                yield f, f.relative_to(paths.root)
+
+
+def add_course_files(paths: CoursePaths, assignment: str) -> None:
+    """Copy :func:`course_files` into ``source/<assignment>/``.
+
+    nbgrader's ``generate_assignment`` (``deformlab release``, formgrader's Generate button) copies
+    them into the release, so its exchange hands them out with the notebooks as the student bundle
+    does: a student who fetches the assignment on a JupyterHub gets ``starter/`` and ``data/`` next
+    to the notebooks, which import them.
+    """
+    target = paths.source / assignment
+    for folder in ("starter", "data"):
+        shutil.rmtree(target / folder, ignore_errors=True)  # build output: no stale file survives
+    for f, relative in course_files(paths):
+        (target / relative).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(f, target / relative)
+
+
 def write_bundle(paths: CoursePaths, assignment: str) -> Path:
     """``dist/<assignment>-student.zip``: release notebooks, the demo, starter/, data/, requirements, README, self-check."""
     from grader import student_check
@@ -389,6 +420,7 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
     say = functools.partial(print, flush=True)
     say("building the instructor notebooks and nbgrader's release ...")
     sources = build_sources(paths.notebooks, paths.source, assignment)
+    add_course_files(paths, assignment)
     generate_assignment(paths, assignment)
     released = sorted((paths.release / assignment).glob("*.ipynb"))
     bundle = write_bundle(paths, assignment)
