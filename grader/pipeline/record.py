@@ -151,9 +151,24 @@ def open_gradebook(db_url: str):
 def record_gradebook(gb, result: dict) -> None:
     """Store a unit's autograded scores in an open nbgrader ``Gradebook`` (retried on a lost race).
 
-    Manually graded cells (short answers) are flagged for formgrader.
+    Manually graded cells (short answers) are flagged for formgrader. A bonus
+    notebook's points are nbgrader's extra credit (see :func:`bonus_as_extra_credit`).
     """
     retry_on_conflict(lambda: _record_gradebook_once(gb, result), gb.db.rollback)
+
+
+def bonus_as_extra_credit(gb, assignment: str, notebook: str) -> None:
+    """Give the grade cells of a bonus notebook a maximum of 0 in the gradebook (not committed).
+
+    nbgrader has no bonus notebook, but each grade has ``extra_credit``, which counts in
+    every score and in no maximum: with its cells worth 0, the bonus notebook's
+    earned points, stored as extra credit, are extra credit in formgrader, the
+    gradebook's totals and ``nbgrader export``. ``generate_assignment`` writes
+    the notebook's points again; every grading run puts this back.
+    """
+    for cell in gb.find_notebook(notebook, assignment).grade_cells:
+        if cell.max_score != 0:
+            cell.max_score = 0.0
 
 
 def _record_gradebook_once(gb, result: dict) -> None:
@@ -164,10 +179,16 @@ def _record_gradebook_once(gb, result: dict) -> None:
         warnings.filterwarnings("ignore", message=".*not in session.*")
         gb.update_or_create_submission(assignment, sid)
     scores = {t["grade_id"]: t["score"] for t in result["tests"]}
+    bonus = is_bonus(notebook)
+    if bonus:
+        bonus_as_extra_credit(gb, assignment, notebook)
     submitted = gb.find_submission_notebook(notebook, assignment, sid)
     for grade in submitted.grades:
         if grade.name in scores:
-            grade.auto_score = scores[grade.name]
+            if bonus:  # a bonus cell is worth 0: what it earned is extra credit
+                grade.auto_score, grade.extra_credit = 0.0, scores[grade.name] or None
+            else:
+                grade.auto_score = scores[grade.name]
             grade.needs_manual_grade = False
         elif grade.cell.cell_type == "markdown":
             grade.auto_score = None
