@@ -2,7 +2,9 @@
 
 One number per student: the assignment's autograded score, regular notebooks
 plus bonus notebooks (extra credit, allowed above the points possible by both
-systems), minus any late penalty recorded in ``grades.csv``.
+systems), minus any late penalty recorded in ``grades.csv``. Moodle's file also
+carries a feedback column saying how late, how many late days were spent and
+what lateness cost, when any student was late.
 
 Canvas (Grades > Import): identity columns ``Student, ID, SIS User ID, SIS Login
 ID, Section``, then one column per assignment, with an optional second row
@@ -34,6 +36,18 @@ class Total:
     score: float
     max_score: float  # regular notebooks only: bonus is extra credit
     late_penalty: float = 0.0
+    seconds_late: float = 0.0  # after the student's extension
+    late_days: int = 0  # of the course's budget, spent on this assignment
+
+    def note(self) -> str:
+        """What a student reads beside the number (Moodle's feedback column): lateness, late days and penalty."""
+        if self.seconds_late <= 0:
+            return ""
+        parts = [f"submitted {self.seconds_late / 3600:.1f} h late"]
+        if self.late_days:
+            parts.append(f"{self.late_days} late day{'s' if self.late_days != 1 else ''} spent")
+        parts.append(f"late penalty {self.late_penalty:g} points")
+        return "; ".join(parts)
 
 
 def totals(grades_csv: Path) -> list[Total]:
@@ -51,6 +65,8 @@ def totals(grades_csv: Path) -> list[Total]:
         if not is_bonus(row["notebook"]):
             t.max_score += float(row["max_score"])
         t.late_penalty += float(row.get("late_penalty") or 0)
+        t.seconds_late = max(t.seconds_late, float(row.get("seconds_late") or 0))
+        t.late_days = max(t.late_days, int(row.get("late_days") or 0))
     for t in by_student.values():
         t.score = max(0.0, round(t.score - t.late_penalty, 4))
     return [by_student[s] for s in sorted(by_student)]

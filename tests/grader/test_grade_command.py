@@ -130,6 +130,23 @@ def test_one_student_is_graded_again_without_touching_the_others(graded, source_
     assert main(["grade", *argv]) == 0  # and back: the original bob is graded again on the plain re-run
 
 
+def test_regrading_one_late_student_leaves_every_other_students_late_penalty_as_it_was(graded):
+    tmp, out, _, argv = graded
+    stamps = {sid: tmp / "submitted" / sid / "deformation" / "timestamp.txt" for sid in ("Ada_Lovelace", "carol")}
+    for path in stamps.values():
+        path.write_text("2026-11-22 10:00:00.000000 UTC")  # both late; the first run had no due date
+    try:
+        assert main(["grade", *argv, "--student", "carol", "--due", "2026-11-20 23:59:00 UTC", "--late-policy", "zero"]) == 0
+    finally:
+        for path in stamps.values():
+            path.unlink()
+    table = {(r["student_id"], r["notebook"]): r for r in rows(out)}
+    carol, ada = table[("carol", NOTEBOOK)], table[("Ada_Lovelace", NOTEBOOK)]
+    assert float(carol["late_penalty"]) == float(carol["score"]) > 0
+    assert (ada["seconds_late"], ada["late_penalty"]) == ("0", "0"), "Ada was not regraded: her row stays as it was"
+    assert "Late:" not in (out / "feedback" / "Ada_Lovelace" / f"{NOTEBOOK}.html").read_text()
+
+
 def test_an_unknown_student_is_a_usage_error(graded, capsys):
     _, _, _, argv = graded
     assert main(["grade", *argv, "--student", "nobody"]) == 2
