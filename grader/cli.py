@@ -167,6 +167,26 @@ def _cmd_report(args) -> int:
     return 0
 
 
+def _export_gradebook(args) -> dict:
+    """The gradebook's submissions for an export (``--db``, else the course's SQLite if it exists), or {} with a warning."""
+    from grader.exports.gradebook import read_gradebook
+    from grader.paths import course_paths
+
+    db = args.db
+    if db is None:
+        try:
+            paths = course_paths()
+        except FileNotFoundError:
+            paths = None
+        if paths is not None and (paths.course / "gradebook.db").is_file():
+            db = paths.gradebook_url
+    held = read_gradebook(db, args.assignment) if db else {}
+    if not held:
+        print(f"warning: no gradebook with {args.assignment!r} found (--db): points graded by hand in formgrader are not included",
+              file=sys.stderr)
+    return held
+
+
 def _cmd_export(args) -> int:
     out = Path(args.out)
     if args.to == "nbgrader-feedback":
@@ -176,17 +196,30 @@ def _cmd_export(args) -> int:
         if not args.submitted:
             raise ValueError("--to nbgrader-feedback needs --submitted (the folder that was graded: its timestamp.txt files go along)")
         dest = Path(args.file) if args.file else course_paths().course / "feedback"
-        written, _ = export_feedback(out, Path(args.submitted), dest, args.assignment)
-        print(f"wrote {len(written)} feedback pages under {dest}/<student>/{args.assignment}/; "
-              f"return them with: nbgrader release_feedback {args.assignment}")
+        held = _export_gradebook(args)
+        written, _ = export_feedback(out, Path(args.submitted), dest, args.assignment, held)
+        pending = sum(s.ungraded for s in held.values())
+        print(f"wrote {len(written)} feedback pages under {dest}/<student>/{args.assignment}/"
+              + (f" ({pending} written answer(s) not graded by hand yet: export again once they are)" if pending else "")
+              + f"; return them with: nbgrader release_feedback {args.assignment}")
         return 0
-    from grader.exports.lms import canvas_csv, moodle_csv, totals
+    from grader.exports.lms import canvas_csv, disagreements, moodle_csv, totals
     from grader.pipeline.record import write_text_atomic
 
     grades = out / "grades.csv"
     if not grades.is_file():
         raise FileNotFoundError(f"{out} is not the output folder of a grading run: it has no grades.csv")
-    rows = totals(grades)
+    held = _export_gradebook(args)
+    rows = totals(grades, held)
+    differ = disagreements(rows, held)
+    if differ:
+        print(f"warning: the gradebook's autograded points differ from {grades} for {len(differ)} student(s) "
+              f"(e.g. {differ[0]!r}): was OUT graded into another gradebook (--db)? Their totals are the gradebook's",
+              file=sys.stderr)
+    pending = sum(t.ungraded for t in rows)
+    if pending:
+        print(f"warning: {pending} written answer(s) are not graded by hand yet (formgrader): they count 0 for now",
+              file=sys.stderr)
     name = args.column or args.assignment
     target = Path(args.file) if args.file else out / f"{args.to}.csv"
     if args.to == "canvas":
@@ -351,6 +384,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the LMS's name of the assignment column, e.g. 'Deformation (12345)' for Canvas (default: the assignment)")
     p.add_argument("--roster", default=None, help="Canvas only: Canvas's gradebook export, to match students by SIS Login ID, SIS User ID or ID")
     p.add_argument("--submitted", default=None, help="nbgrader-feedback only: the SUBMITTED folder that was graded")
+    p.add_argument("--db", default=None,
+                   help="SQLAlchemy URL of the nbgrader gradebook whose hand grading (formgrader) the export includes "
+                        "(default: the course's SQLite)")
     p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
     p.set_defaults(run=_cmd_export)
 
