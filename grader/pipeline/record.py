@@ -99,12 +99,42 @@ def write_feedback(out: Path, result: dict) -> None:
         write_text_atomic(Path(out) / "feedback" / safe_name(result["student_id"]) / f"{result['notebook']}.html", result["feedback_html"])
 
 
+#: Control characters (but tab and newline) of a message: a TA's page shows text, never terminal or markup codes.
+_CONTROL = dict.fromkeys([*range(0, 9), *range(11, 32), 127], None)
+
+
+def verdict_text(test: dict) -> str:
+    """What a tests cell shows in formgrader: its score and the feedback page's verdict per hidden case, as plain text."""
+    lines = [f"{test['function']}: {test['score']:g} / {test['points']:g} points (hidden tests, judged by the grader outside "
+             f"the student's kernel; this cell itself was not run)", str(test.get("summary", ""))]
+    for case in test.get("cases", []):
+        why = "passed" if case.get("passed") else (case.get("error") or "; ".join(case.get("failed", [])))
+        lines.append(f"- {case.get('label', '')}: {why}")
+    return "\n".join(lines).translate(_CONTROL) + "\n"
+
+
+def with_verdicts(notebook_json: str, tests: list[dict]) -> str:
+    """The executed notebook with each tests cell's verdicts as its output (a text stream; formgrader escapes it)."""
+    nb = json.loads(notebook_json)
+    by_id = {t["grade_id"]: t for t in tests}
+    for cell in nb.get("cells", []):
+        test = by_id.get(((cell.get("metadata") or {}).get("nbgrader") or {}).get("grade_id"))
+        if cell.get("cell_type") == "code" and test is not None:
+            cell["outputs"] = [{"output_type": "stream", "name": "stdout", "text": verdict_text(test)}]
+    return json.dumps(nb, ensure_ascii=False)
+
+
 def write_autograded(autograded: Path, result: dict) -> None:
-    """The executed notebook where formgrader looks for it (``<course>/autograded``)."""
+    """The executed notebook where formgrader looks for it (``<course>/autograded``), each tests cell showing its verdicts.
+
+    Tests cells are not run when grading (their verdicts are computed outside
+    the kernel), so without this formgrader would show them empty, and a TA
+    grading by hand would not see why a test failed.
+    """
     if result.get("autograded_notebook"):
         write_text_atomic(
             Path(autograded) / safe_name(result["student_id"]) / result["assignment"] / f"{result['notebook']}.ipynb",
-            result["autograded_notebook"],
+            with_verdicts(result["autograded_notebook"], result.get("tests", [])),
         )
 
 
