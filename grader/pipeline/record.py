@@ -113,28 +113,52 @@ def verdict_text(test: dict) -> str:
     return "\n".join(lines).translate(_CONTROL) + "\n"
 
 
-def with_verdicts(notebook_json: str, tests: list[dict]) -> str:
-    """The executed notebook with each tests cell's verdicts as its output (a text stream; formgrader escapes it)."""
+def with_verdicts(notebook_json: str, tests: list[dict], answers: dict | None = None, bonus: bool = False) -> str:
+    """The executed notebook as formgrader shows it to a TA.
+
+    Each tests cell gets its verdicts as its output (a text stream; formgrader
+    escapes it), and each written answer in ``answers`` (grade id -> model
+    answer and points, ``grader.exports.ta_notes.model_answers``) is followed by
+    the TA's cell with the model answer and a rubric.
+    """
+    from grader.exports.ta_notes import ta_note
+
     nb = json.loads(notebook_json)
     by_id = {t["grade_id"]: t for t in tests}
+    cells = []
     for cell in nb.get("cells", []):
-        test = by_id.get(((cell.get("metadata") or {}).get("nbgrader") or {}).get("grade_id"))
+        grade_id = ((cell.get("metadata") or {}).get("nbgrader") or {}).get("grade_id")
+        test = by_id.get(grade_id)
         if cell.get("cell_type") == "code" and test is not None:
             cell["outputs"] = [{"output_type": "stream", "name": "stdout", "text": verdict_text(test)}]
+        cells.append(cell)
+        if cell.get("cell_type") == "markdown" and grade_id in (answers or {}):
+            note = ta_note(*answers[grade_id], bonus=bonus)
+            if nb.get("nbformat_minor", 0) >= 5:  # cell ids exist from nbformat 4.5 on; grade ids are unique
+                note["id"] = f"ta-note-{grade_id}"[:64]
+            else:
+                del note["id"]
+            cells.append(note)
+    nb["cells"] = cells
     return json.dumps(nb, ensure_ascii=False)
 
 
 def write_autograded(autograded: Path, result: dict) -> None:
-    """The executed notebook where formgrader looks for it (``<course>/autograded``), each tests cell showing its verdicts.
+    """The executed notebook where formgrader looks for it (``<course>/autograded``), as :func:`with_verdicts` makes it.
 
     Tests cells are not run when grading (their verdicts are computed outside
-    the kernel), so without this formgrader would show them empty, and a TA
-    grading by hand would not see why a test failed.
+    the kernel), so without their verdicts formgrader would show them empty, and
+    a TA grading by hand would not see why a test failed. Model answers come
+    from the course's instructor notebook (``<course>/source/<assignment>/``,
+    beside ``autograded/`` as nbgrader lays a course out).
     """
+    from grader.exports.ta_notes import model_answers
+
     if result.get("autograded_notebook"):
+        source = Path(autograded).parent / "source" / result["assignment"] / f"{result['notebook']}.ipynb"
         write_text_atomic(
             Path(autograded) / safe_name(result["student_id"]) / result["assignment"] / f"{result['notebook']}.ipynb",
-            with_verdicts(result["autograded_notebook"], result.get("tests", [])),
+            with_verdicts(result["autograded_notebook"], result.get("tests", []), model_answers(source), is_bonus(result["notebook"])),
         )
 
 

@@ -245,3 +245,19 @@ def test_each_tests_cell_shows_its_verdicts_in_formgrader_as_text(course, formgr
         for c in t["cases"]:
             assert f"- {c['label']}: {'passed' if c['passed'] else c['error'] or '; '.join(c['failed'])}" in texts[MARKUP]
     assert texts[HONEST].count("hidden cases passed") == len(course.results[HONEST]["tests"])
+
+
+def test_each_written_answer_is_followed_by_the_model_answer_and_a_rubric_for_the_ta(course, formgrader, browser):
+    log_in(browser, formgrader)
+    source = nbformat.read(course.paths.source_notebooks()[0], as_version=4)
+    answers = [(c.metadata.nbgrader["grade_id"], c.metadata.nbgrader["points"]) for c in source.cells
+               if c.cell_type == "markdown" and (c.metadata.get("nbgrader") or {}).get("grade")]
+    page = browser.new_page()
+    page.goto(f"{formgrader.url}/formgrader/submissions/{submission_id(course.db_url, HONEST)}/?index=0")
+    page.wait_for_load_state("networkidle")
+    text = page.inner_text("body")
+    page.close()
+    notes = text.split("For the TA: not part of the student's notebook")[1:]
+    assert answers and len(notes) == len(answers)
+    for (_, points), note in zip(answers, notes):
+        assert note.index(f"Model answer ({points:g} points)") < note.index("Rubric") < note.index("0: no answer")

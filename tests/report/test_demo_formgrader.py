@@ -44,13 +44,18 @@ def demo_course(source_notebooks, tmp_path_factory):
     return paths, students, notes
 
 
-def formgrader_api(paths):
+def formgrader_api(paths, stock_feedback: bool = False):
+    """nbgrader's API with the course's nbgrader_config.py (``stock_feedback``: with generate_feedback's default preprocessors)."""
+    from nbconvert.preprocessors import CSSHTMLHeaderPreprocessor
     from nbgrader.apps import NbGraderAPI
     from nbgrader.coursedir import CourseDirectory
+    from nbgrader.preprocessors import GetGrades
     from traitlets.config.loader import PyFileConfigLoader
 
     config = PyFileConfigLoader("nbgrader_config.py", path=str(paths.course)).load_config()
     config.CourseDirectory.root = str(paths.course)
+    if stock_feedback:
+        config.GenerateFeedback.preprocessors = [GetGrades, CSSHTMLHeaderPreprocessor]
     return NbGraderAPI(coursedir=CourseDirectory(config=config), config=config)
 
 
@@ -75,3 +80,35 @@ def test_the_demos_late_student_carries_the_late_policy_into_the_gradebook(demo_
     with Gradebook(paths.gradebook_url) as gb:
         assert gb.find_submission(ASSIGNMENT, "blank").total_seconds_late == 26 * 3600
         assert gb.find_submission(ASSIGNMENT, "reference").total_seconds_late == 0
+
+
+def test_formgraders_notebook_shows_the_model_answer_and_a_rubric_after_each_written_answer(demo_course):
+    import nbformat
+
+    paths, _, _ = demo_course
+    source = nbformat.read(paths.source / ASSIGNMENT / "01_shape_matching.ipynb", as_version=4)
+    answers = [(c.metadata.nbgrader["grade_id"], c.source, c.metadata.nbgrader["points"]) for c in source.cells
+               if c.cell_type == "markdown" and (c.metadata.get("nbgrader") or {}).get("grade")]
+    assert answers
+    for sid in ("reference", "blank"):
+        nb = nbformat.read(paths.course / "autograded" / sid / ASSIGNMENT / "01_shape_matching.ipynb", as_version=4)
+        nbformat.validate(nb)
+        ids = [(c.metadata.get("nbgrader") or {}).get("grade_id") for c in nb.cells]
+        for grade_id, model, points in answers:
+            note = nb.cells[ids.index(grade_id) + 1]
+            assert note.metadata.tags == ["deformlab-ta-only"] and "nbgrader" not in note.metadata
+            assert f"**Model answer** ({points:g} points):" in note.source
+            assert all(f"> {line}" in note.source for line in model.splitlines() if line.strip())
+            assert f"- **{points:g}**: the conclusion and the reasoning" in note.source and "- **0**: no answer" in note.source
+
+
+def test_nbgraders_generate_feedback_with_the_courses_config_never_returns_the_model_answer(demo_course):
+    paths, _, _ = demo_course
+    result = formgrader_api(paths).generate_feedback(ASSIGNMENT, "blank")
+    assert result["success"], result.get("log")
+    page = (paths.course / "feedback" / "blank" / ASSIGNMENT / "01_shape_matching.html").read_text()
+    assert "YOUR ANSWER HERE" in page  # the student's own (blank) answer is there
+    assert "Model answer" not in page and "For the TA" not in page
+    # Control: nbgrader's stock preprocessors would return it (so the course's configuration is what keeps it back).
+    assert formgrader_api(paths, stock_feedback=True).generate_feedback(ASSIGNMENT, "reference")["success"]
+    assert "Model answer" in (paths.course / "feedback" / "reference" / ASSIGNMENT / "01_shape_matching.html").read_text()
