@@ -38,6 +38,9 @@ def _small_regular_file(path: Path) -> bool:
 
 
 _MANUAL = re.compile(r"<!-- manual -->.*?<!-- /manual -->", re.S)
+#: Pages graded before the manual marks existed: their hand-graded paragraph, or where it goes.
+_OLD_MANUAL = re.compile(r'<p class="manual">.*?</p>\n?', re.S)
+_OLD_PLACE = "<p>The hidden tests ran"
 
 
 def _points(value: float) -> str:
@@ -66,7 +69,7 @@ def hand_graded_html(hand: list[HandGrade], bonus: bool = False) -> str:
         (h.score - (h.auto_score or 0)) for h in hand if not h.written and h.score is not None)
     pending = sum(h.score is None for h in written)
     head = f"<b>Graded by hand:</b> {html.escape(_points(round(given, 4)))} on top of the autograded score" + (
-        f" (extra credit: this is a bonus notebook)" if bonus else "") + (
+        " (extra credit: this is a bonus notebook)" if bonus else "") + (
         f"; {pending} written answer{'s' if pending != 1 else ''} not graded yet, a later copy of this page will show {'them' if pending != 1 else 'it'}"
         if pending else "") + "."
     return f'<p class="manual">{head}</p><ul>{"".join(items)}</ul>'
@@ -80,7 +83,11 @@ def with_hand_grades(page: str, hand: list[HandGrade], bonus: bool = False) -> s
     if not hand:
         return page
     block = f"<!-- manual -->{hand_graded_html(hand, bonus)}<!-- /manual -->"
-    return _MANUAL.sub(lambda _: block, page, count=1)
+    if _MANUAL.search(page):
+        return _MANUAL.sub(lambda _: block, page, count=1)
+    if _OLD_MANUAL.search(page):
+        return _OLD_MANUAL.sub(lambda _: block + "\n", page, count=1)
+    return page.replace(_OLD_PLACE, block + "\n" + _OLD_PLACE, 1)
 
 
 def export_feedback(out: Path, submitted: Path, feedback_root: Path, assignment: str,

@@ -183,3 +183,17 @@ def test_a_missing_notebooks_feedback_promises_no_reading_of_its_written_answers
     page = (out / "feedback" / "dan" / "02_sign_correction.html").read_text()
     assert "there is nothing to grade by hand" in page and "read by a TA" not in page
     assert "read by a TA" in (out / "feedback" / "dan" / "01_shape_matching.html").read_text()
+
+
+def test_a_page_graded_before_the_manual_marks_still_gets_the_hand_grading():
+    from grader.exports.gradebook import HandGrade
+    from grader.exports.nbgrader_feedback import with_hand_grades
+
+    old = ('<p class="score">Autograded score: <b>3.00 / 5</b></p>\n<!-- late -->\n'
+           '<p class="manual">2 more points of this notebook are graded by hand (answer_nut): your written answers are read by a TA.</p>\n'
+           '<p>The hidden tests ran your functions on inputs drawn with seed 5.</p>')
+    page = with_hand_grades(old, [HandGrade("00_meshes", "answer_nut", True, 1.5, 2.0)])
+    assert "read by a TA" not in page and page.count("<!-- manual -->") == 1
+    assert '<li class="manual">answer_nut: 1.5 / 2</li>' in page and page.index("answer_nut: 1.5") < page.index("The hidden tests ran")
+    bare = with_hand_grades(old.replace(old.split("\n")[2] + "\n", ""), [HandGrade("00_meshes", "answer_nut", True, None, 2.0)])
+    assert "answer_nut: not graded yet" in bare and bare.index("not graded yet") < bare.index("The hidden tests ran")
