@@ -197,6 +197,11 @@ def _cmd_export(args) -> int:
             raise ValueError("--to nbgrader-feedback needs --submitted (the folder that was graded: its timestamp.txt files go along)")
         dest = Path(args.file) if args.file else course_paths().course / "feedback"
         held = _export_gradebook(args)
+        if held and (out / "grades.csv").is_file():  # only students the gradebook holds as OUT graded them
+            from grader.exports.lms import disagreements
+
+            for sid in disagreements(out / "grades.csv", held):
+                del held[sid]
         written, _ = export_feedback(out, Path(args.submitted), dest, args.assignment, held)
         pending = sum(s.ungraded for s in held.values())
         print(f"wrote {len(written)} feedback pages under {dest}/<student>/{args.assignment}/"
@@ -211,11 +216,11 @@ def _cmd_export(args) -> int:
         raise FileNotFoundError(f"{out} is not the output folder of a grading run: it has no grades.csv")
     held = _export_gradebook(args)
     rows = totals(grades, held)
-    differ = disagreements(rows, held)
+    differ = disagreements(grades, held)
     if differ:
-        print(f"warning: the gradebook's autograded points differ from {grades} for {len(differ)} student(s) "
-              f"(e.g. {differ[0]!r}): was OUT graded into another gradebook (--db)? Their totals are the gradebook's",
-              file=sys.stderr)
+        print(f"warning: the gradebook holds other notebooks or autograded points than {grades} for {len(differ)} student(s) "
+              f"(e.g. {differ[0]!r}): was OUT graded into another gradebook (--db)? Their totals are grades.csv's, "
+              "without grading by hand", file=sys.stderr)
     pending = sum(t.ungraded for t in rows)
     if pending:
         print(f"warning: {pending} written answer(s) are not graded by hand yet (formgrader): they count 0 for now",

@@ -35,8 +35,13 @@ class GradebookSubmission:
     student_id: str
     score: float  # nbgrader's: autograded, by hand and extra credit, before any late penalty
     max_score: float  # the assignment's (bonus cells are worth 0)
-    autograded: float  # what grading recorded: the tests cells' scores and the bonus notebook's earned points
+    #: per notebook, what grading recorded: the tests cells' scores and the bonus notebook's earned points
+    autograded_by_notebook: dict[str, float] = field(default_factory=dict)
     hand: list[HandGrade] = field(default_factory=list)
+
+    @property
+    def autograded(self) -> float:
+        return sum(self.autograded_by_notebook.values())
 
     @property
     def ungraded(self) -> int:
@@ -58,15 +63,16 @@ def read_gradebook(db_url: str, assignment: str) -> dict[str, GradebookSubmissio
         except MissingEntry:
             return {}
         for submission in submissions:
-            entry = GradebookSubmission(submission.student.id, float(submission.score or 0), float(submission.max_score or 0), 0.0)
+            entry = GradebookSubmission(submission.student.id, float(submission.score or 0), float(submission.max_score or 0))
             for notebook in submission.notebooks:
                 bonus = is_bonus(notebook.name)
+                entry.autograded_by_notebook[notebook.name] = 0.0
                 comments = {c.name: (c.manual_comment or "").strip() for c in notebook.comments}
                 for grade in notebook.grades:
                     written = grade.cell.cell_type == "markdown"
                     extra = float(grade.extra_credit or 0)
                     if not written:
-                        entry.autograded += float(grade.auto_score or 0) + (extra if bonus else 0.0)
+                        entry.autograded_by_notebook[notebook.name] += float(grade.auto_score or 0) + (extra if bonus else 0.0)
                     changed = not written and grade.manual_score is not None
                     ta_extra = 0.0 if (bonus and not written) else extra
                     # A written answer of a missing notebook has nothing to grade and is not listed.

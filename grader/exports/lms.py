@@ -76,9 +76,11 @@ def totals(grades_csv: Path, gradebook: dict | None = None) -> list[Total]:
         If ``grades_csv`` does not exist.
     """
     by_student: dict[str, Total] = {}
+    recorded: dict[str, dict[str, float]] = {}
     for row in read_csv(grades_csv):
         t = by_student.setdefault(row["student_id"], Total(row["student_id"], 0.0, 0.0))
         t.autograded += float(row["score"])
+        recorded.setdefault(row["student_id"], {})[row["notebook"]] = float(row["score"])
         if not is_bonus(row["notebook"]):
             t.max_score += float(row["max_score"])
         t.late_penalty += float(row.get("late_penalty") or 0)
@@ -87,16 +89,28 @@ def totals(grades_csv: Path, gradebook: dict | None = None) -> list[Total]:
     for t in by_student.values():
         held = (gradebook or {}).get(t.student_id)
         score = t.autograded
-        if held is not None:
+        if held is not None and _agrees(held, recorded[t.student_id]):
             score, t.max_score = held.score, held.max_score
             t.hand, t.ungraded = round(held.score - held.autograded, 4), held.ungraded
         t.score = max(0.0, round(score - t.late_penalty, 4))
     return [by_student[s] for s in sorted(by_student)]
 
 
-def disagreements(rows: list[Total], gradebook: dict) -> list[str]:
-    """Students whose autograded points differ between ``grades.csv`` and the gradebook (another run, another --db)."""
-    return [t.student_id for t in rows if t.student_id in gradebook and abs(gradebook[t.student_id].autograded - t.autograded) > 1e-6]
+def _agrees(held, recorded: dict[str, float]) -> bool:
+    """Whether the gradebook's submission is the one ``grades.csv`` recorded: the same notebooks, the same autograded points."""
+    return set(held.autograded_by_notebook) == set(recorded) and all(
+        abs(held.autograded_by_notebook[nb] - score) <= 1e-6 for nb, score in recorded.items())
+
+
+def disagreements(grades_csv: Path, gradebook: dict) -> list[str]:
+    """Students the gradebook holds otherwise than ``grades.csv`` (another run, another course: another --db).
+
+    :func:`totals` scores them from ``grades.csv`` alone.
+    """
+    recorded: dict[str, dict[str, float]] = {}
+    for row in read_csv(grades_csv):
+        recorded.setdefault(row["student_id"], {})[row["notebook"]] = float(row["score"])
+    return [sid for sid, scores in sorted(recorded.items()) if sid in gradebook and not _agrees(gradebook[sid], scores)]
 
 
 def _read_roster(roster: Path) -> list[dict]:

@@ -197,3 +197,18 @@ def test_a_page_graded_before_the_manual_marks_still_gets_the_hand_grading():
     assert '<li class="manual">answer_nut: 1.5 / 2</li>' in page and page.index("answer_nut: 1.5") < page.index("The hidden tests ran")
     bare = with_hand_grades(old.replace(old.split("\n")[2] + "\n", ""), [HandGrade("00_meshes", "answer_nut", True, None, 2.0)])
     assert "answer_nut: not graded yet" in bare and bare.index("not graded yet") < bare.index("The hidden tests ran")
+
+
+def test_a_gradebook_that_holds_a_student_otherwise_than_the_run_is_not_used_for_that_student(hand_graded, tmp_path, capsys):
+    from nbgrader.api import Gradebook
+
+    out, db, given, _ = hand_graded
+    with Gradebook(db) as gb:  # as if ada had been graded again into this gradebook by another run
+        grade = next(g for g in gb.find_submission_notebook("01_shape_matching", "deformation", "ada").grades if g.cell.cell_type == "code")
+        grade.auto_score = 0.0
+        gb.db.commit()
+    target = tmp_path / "moodle.csv"
+    assert main(["export", str(out), "--to", "moodle", "--file", str(target), "--db", db]) == 0
+    assert "holds other notebooks or autograded points than" in capsys.readouterr().err
+    totals = {r[0]: float(r[1]) for r in read(target)[1:]}
+    assert totals["ada"] == pytest.approx(expected_totals(out)["ada"]), "grades.csv's, without the gradebook's hand grading"
