@@ -273,9 +273,10 @@ def late_line(seconds_late: float, penalty: float, lateness: Lateness | None = N
     lateness = lateness or Lateness(seconds_late)
     parts = []
     if lateness.extension:
-        parts.append(f"your extension: {_duration(lateness.extension.total_seconds())}")
-    if seconds_late <= 0:
-        return "; ".join(parts + ["submitted on time"]) + "."
+        granted = _duration(lateness.extension.total_seconds())
+        if seconds_late <= 0:
+            return f"{granted} granted; submitted on time."
+        parts.append(f"your extension: {granted}")
     parts.append(f"submitted {_duration(seconds_late)} after the due date" + (" with your extension" if lateness.extension else ""))
     if lateness.late_days_left is not None:
         parts.append(f"{lateness.late_days} late day{'s' if lateness.late_days != 1 else ''} spent on this assignment "

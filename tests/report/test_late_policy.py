@@ -160,7 +160,7 @@ def test_an_extension_granted_by_the_command_moves_that_students_due_date_only(g
     assert float(rows[("ada", "01_shape_matching")]["late_penalty"]) == float(rows[("ada", "01_shape_matching")]["score"]) > 0
     assert late["bob"].extension.days == 2 and late["bob"].seconds_late == 0
     page = (out / "feedback" / "bob" / "01_shape_matching.html").read_text()
-    assert "<b>Extension:</b> your extension: 2 d 0 h 0 min; submitted on time." in page
+    assert "<b>Extension:</b> 2 d 0 h 0 min granted; submitted on time." in page
     with Gradebook(db) as gb:  # nbgrader's own reading of the same submission agrees
         assert gb.find_submission("deformation", "bob").total_seconds_late == 0
         assert gb.find_submission("deformation", "ada").total_seconds_late == 3660
