@@ -8,8 +8,8 @@ from nbgrader.api import Gradebook
 
 import pytest
 
-from grader.late_policy import (PerDayPenalty, apply_late_policy, configured_plugin, gradebook_due, make_plugin, parse_due,
-                                read_timestamp)
+from grader.late_policy import (PerDayPenalty, apply_late_policy, configured_late_days, configured_plugin, gradebook_due,
+                                make_plugin, parse_due, read_timestamp)
 
 DUE = "2026-11-20 23:59:00 UTC"
 
@@ -225,3 +225,13 @@ def test_a_timestamp_one_folder_too_high_is_named_not_silently_ignored(graded_cl
     assert "bob" not in late
     err = capsys.readouterr().err
     assert "'bob': timestamp.txt is one folder too high" in err and "counts as on time" in err
+
+
+def test_the_late_day_budget_comes_from_nbgrader_config_as_the_plugin_does(tmp_path):
+    config = tmp_path / "nbgrader_config.py"
+    assert configured_late_days(config) == 0  # no file: no budget
+    config.write_text("c = get_config()\nc.LateDays.budget = 3\n")
+    assert configured_late_days(config) == 3
+    config.write_text("c = get_config()\nc.LateDays.budget = -1\n")
+    with pytest.raises(ValueError, match="a budget of late days cannot be negative"):
+        configured_late_days(config)
