@@ -129,11 +129,13 @@ def _cmd_grade(args) -> int:
         allow_unsandboxed=args.allow_unsandboxed,
     )
     due, plugin, late_days = _late_policy(args)
-    from grader.late_policy import apply_late_policy, previous_late_columns
+    from grader.late_policy import apply_late_policy, keep_late_columns, previous_late_columns
 
     # A --student run keeps everybody else's late columns as it keeps their scores.
     previous = previous_late_columns(Path(args.out)) if args.student is not None else None
     results = grade_class(Path(args.submitted), Path(args.out), options)
+    if due is None and previous:  # no due date this time: the late columns stay as the last run wrote them
+        keep_late_columns(Path(args.out), previous)
     if due is not None:
         late = apply_late_policy(Path(args.out), Path(args.submitted), args.assignment, due, plugin,
                                  args.db or course_paths().gradebook_url, late_days=late_days, only=args.student, previous=previous)

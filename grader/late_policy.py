@@ -303,6 +303,16 @@ def previous_late_columns(out: Path) -> dict[tuple[str, str], dict]:
     return {(r["student_id"], r["notebook"]): {c: r[c] for c in LATE_COLUMNS if r.get(c)} for r in rows if r.get("seconds_late")}
 
 
+def keep_late_columns(out: Path, previous: dict[tuple[str, str], dict]) -> None:
+    """Put back the late columns :func:`previous_late_columns` read, after a ``--student`` run that applied no due date."""
+    rows = read_csv(Path(out) / "grades.csv")
+    for row in rows:
+        kept = previous.get((row["student_id"], row["notebook"]), {})
+        for column in LATE_COLUMNS:
+            row[column] = kept.get(column, "0")
+    record.write_text_atomic(Path(out) / "grades.csv", csv_text([*record.CSV_HEADER, *LATE_COLUMNS], rows))
+
+
 def apply_late_policy(out: Path, submitted: Path, assignment: str, due: datetime, plugin: BasePlugin, db_url: str | None = None,
                       *, late_days: int = 0, only: str | None = None, previous: dict | None = None) -> dict[str, Lateness]:
     """Add lateness and penalties to a graded run in ``out``; returns the :class:`Lateness` of each late or extended student.

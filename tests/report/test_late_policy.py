@@ -9,7 +9,7 @@ from nbgrader.api import Gradebook
 import pytest
 
 from grader.late_policy import (PerDayPenalty, apply_late_policy, configured_late_days, configured_plugin, gradebook_due,
-                                make_plugin, parse_due, read_timestamp)
+                                keep_late_columns, make_plugin, parse_due, previous_late_columns, read_timestamp)
 
 DUE = "2026-11-20 23:59:00 UTC"
 
@@ -235,3 +235,17 @@ def test_the_late_day_budget_comes_from_nbgrader_config_as_the_plugin_does(tmp_p
     config.write_text("c = get_config()\nc.LateDays.budget = -1\n")
     with pytest.raises(ValueError, match="a budget of late days cannot be negative"):
         configured_late_days(config)
+
+
+def test_a_rewritten_grades_csv_gets_back_the_late_columns_of_the_run_before(tmp_path):
+    grades = tmp_path / "grades.csv"
+    grades.write_text("student_id,assignment,notebook,score,max_score,bonus,seconds_late,late_days,late_penalty\n"
+                      "ada,deformation,05_lbs,10,12,false,90000,2,1.5\n")
+    previous = previous_late_columns(tmp_path)
+    grades.write_text("student_id,assignment,notebook,score,max_score,bonus\n"
+                      "ada,deformation,05_lbs,10,12,false\nbob,deformation,05_lbs,12,12,false\n")
+    keep_late_columns(tmp_path, previous)
+    with open(grades, newline="") as fh:
+        rows = {r["student_id"]: r for r in csv.DictReader(fh)}
+    assert (rows["ada"]["seconds_late"], rows["ada"]["late_days"], rows["ada"]["late_penalty"]) == ("90000", "2", "1.5")
+    assert (rows["bob"]["seconds_late"], rows["bob"]["late_penalty"]) == ("0", "0")
