@@ -17,3 +17,11 @@ c.ClearSolutions.code_stub = {"python": "# YOUR CODE HERE\nraise NotImplementedE
 # Where the course kit is (data/, notebooks/) for `deformlab` commands run from this folder,
 # also with a non-editable install (pip install ., the Gradescope zip, Dask workers).
 c.DeformLab.course_root = ".."
+# formgrader shows the TA a model answer and a rubric beside each written answer (cells tagged
+# deformlab-ta-only in autograded/); nbgrader's own generate_feedback leaves them out.
+try:
+    from grader.exports.ta_notes import feedback_preprocessors
+
+    c.GenerateFeedback.preprocessors = feedback_preprocessors()
+except ImportError:  # without the kit installed, generate_feedback would return them: use deformlab export
+    pass

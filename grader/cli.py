@@ -32,6 +32,16 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _non_negative_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a whole number of 0 or more, got {text!r}")
+    return value
+
+
 def _positive_float(text: str) -> float:
     try:
         value = float(text)
@@ -79,7 +89,7 @@ def _cmd_release(args) -> int:
 
 
 def _late_policy(args):
-    """(due date, plugin) of a grade run: the flags, else the course's gradebook and nbgrader_config.py."""
+    """(due date, plugin, late-day budget) of a grade run: the flags, else the course's gradebook and nbgrader_config.py."""
     from grader import late_policy
     from grader.paths import course_paths
 
@@ -90,13 +100,15 @@ def _late_policy(args):
     db = args.db or (paths.gradebook_url if paths is not None and (paths.course / "gradebook.db").is_file() else None)
     due = late_policy.parse_due(args.due) if args.due else (late_policy.gradebook_due(db, args.assignment) if db else None)
     if due is None:
-        if args.late_policy is not None:
-            raise ValueError("--late-policy needs a due date: --due, or the gradebook's "
-                             f"(nbgrader db assignment add {args.assignment} --duedate=...)")
-        return None, None
+        if args.late_policy is not None or args.late_days is not None:
+            raise ValueError(f"--{'late-policy' if args.late_policy is not None else 'late-days'} needs a due date: --due, "
+                             f"or the gradebook's (nbgrader db assignment add {args.assignment} --duedate=...)")
+        return None, None, 0
+    config = paths.course / "nbgrader_config.py" if paths is not None else None
+    budget = args.late_days if args.late_days is not None else late_policy.configured_late_days(config)
     if args.late_policy is not None:
-        return due, late_policy.make_plugin(args.late_policy)
-    return due, late_policy.configured_plugin(paths.course / "nbgrader_config.py" if paths is not None else None)
+        return due, late_policy.make_plugin(args.late_policy), budget
+    return due, late_policy.configured_plugin(config), budget
 
 
 def _cmd_grade(args) -> int:
@@ -119,15 +131,22 @@ def _cmd_grade(args) -> int:
         scheduler=args.scheduler,
         allow_unsandboxed=args.allow_unsandboxed,
     )
-    due, plugin = _late_policy(args)
-    results = grade_class(Path(args.submitted), Path(args.out), options)
-    if due is not None:
-        from grader.late_policy import apply_late_policy
+    due, plugin, late_days = _late_policy(args)
+    from grader.late_policy import apply_late_policy, keep_late_columns, previous_late_columns
 
+    # A --student run keeps everybody else's late columns as it keeps their scores.
+    previous = previous_late_columns(Path(args.out)) if args.student is not None else None
+    results = grade_class(Path(args.submitted), Path(args.out), options)
+    if due is None and previous:  # no due date this time: the late columns stay as the last run wrote them
+        keep_late_columns(Path(args.out), previous)
+    if due is not None:
         late = apply_late_policy(Path(args.out), Path(args.submitted), args.assignment, due, plugin,
-                                 args.db or course_paths().gradebook_url)
-        print(f"late: {len(late)} student(s) submitted after {due:%Y-%m-%d %H:%M} UTC"
-              + ("; penalties (points): " + ", ".join(f"{s} {p:g}" for s, (_, p) in sorted(late.items())[:20]) if late else ""))
+                                 args.db or course_paths().gradebook_url, late_days=late_days, only=args.student, previous=previous)
+        late = {s: t for s, t in late.items() if t.seconds_late > 0}
+        print(f"late: {len(late)} student(s) submitted after {due:%Y-%m-%d %H:%M} UTC (extensions included)"
+              + (f"; late days spent (budget {late_days}): " + ", ".join(f"{s!r} {t.late_days}" for s, t in sorted(late.items())[:20])
+                 if late and late_days else "")
+              + ("; penalties (points): " + ", ".join(f"{s!r} {t.penalty:g}" for s, t in sorted(late.items())[:20]) if late else ""))
     print()
     print(class_summary(results))
     pairs = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
@@ -153,6 +172,26 @@ def _cmd_report(args) -> int:
     return 0
 
 
+def _export_gradebook(args) -> dict:
+    """The gradebook's submissions for an export (``--db``, else the course's SQLite if it exists), or {} with a warning."""
+    from grader.exports.gradebook import read_gradebook
+    from grader.paths import course_paths
+
+    db = args.db
+    if db is None:
+        try:
+            paths = course_paths()
+        except FileNotFoundError:
+            paths = None
+        if paths is not None and (paths.course / "gradebook.db").is_file():
+            db = paths.gradebook_url
+    held = read_gradebook(db, args.assignment) if db else {}
+    if not held:
+        print(f"warning: no gradebook with {args.assignment!r} found (--db): points graded by hand in formgrader are not included",
+              file=sys.stderr)
+    return held
+
+
 def _cmd_export(args) -> int:
     out = Path(args.out)
     if args.to == "nbgrader-feedback":
@@ -162,17 +201,35 @@ def _cmd_export(args) -> int:
         if not args.submitted:
             raise ValueError("--to nbgrader-feedback needs --submitted (the folder that was graded: its timestamp.txt files go along)")
         dest = Path(args.file) if args.file else course_paths().course / "feedback"
-        written, _ = export_feedback(out, Path(args.submitted), dest, args.assignment)
-        print(f"wrote {len(written)} feedback pages under {dest}/<student>/{args.assignment}/; "
-              f"return them with: nbgrader release_feedback {args.assignment}")
+        held = _export_gradebook(args)
+        if held and (out / "grades.csv").is_file():  # only students the gradebook holds as OUT graded them
+            from grader.exports.lms import disagreements
+
+            for sid in disagreements(out / "grades.csv", held):
+                del held[sid]
+        written, _ = export_feedback(out, Path(args.submitted), dest, args.assignment, held)
+        pending = sum(s.ungraded for s in held.values())
+        print(f"wrote {len(written)} feedback pages under {dest}/<student>/{args.assignment}/"
+              + (f" ({pending} written answer(s) not graded by hand yet: export again once they are)" if pending else "")
+              + f"; return them with: nbgrader release_feedback {args.assignment}")
         return 0
-    from grader.exports.lms import canvas_csv, moodle_csv, totals
+    from grader.exports.lms import canvas_csv, disagreements, moodle_csv, totals
     from grader.pipeline.record import write_text_atomic
 
     grades = out / "grades.csv"
     if not grades.is_file():
         raise FileNotFoundError(f"{out} is not the output folder of a grading run: it has no grades.csv")
-    rows = totals(grades)
+    held = _export_gradebook(args)
+    rows = totals(grades, held)
+    differ = disagreements(grades, held)
+    if differ:
+        print(f"warning: the gradebook holds other notebooks or autograded points than {grades} for {len(differ)} student(s) "
+              f"(e.g. {differ[0]!r}): was OUT graded into another gradebook (--db)? Their totals are grades.csv's, "
+              "without grading by hand", file=sys.stderr)
+    pending = sum(t.ungraded for t in rows)
+    if pending:
+        print(f"warning: {pending} written answer(s) are not graded by hand yet (formgrader): they count 0 for now",
+              file=sys.stderr)
     name = args.column or args.assignment
     target = Path(args.file) if args.file else out / f"{args.to}.csv"
     if args.to == "canvas":
@@ -181,9 +238,54 @@ def _cmd_export(args) -> int:
             print(f"warning: {len(unmatched)} student(s) are not in the roster and were left out: {', '.join(unmatched[:10])}",
                   file=sys.stderr)
     else:
-        text = moodle_csv(rows, name)
+        notes = {t.student_id: t.note() for t in rows}
+        text = moodle_csv(rows, name, feedback=notes if any(notes.values()) else None)
     write_text_atomic(target, text)
     print(f"wrote {target} ({len(rows)} students)")
+    return 0
+
+
+def _extension(args):
+    """The extension the flags ask for: a duration, a new due date for this student, or None (--remove)."""
+    from datetime import timedelta
+
+    from grader import late_policy
+
+    if args.remove or args.until is not None:
+        if args.hours is not None:
+            raise ValueError("--hours adds to --days; it does not go with --until or --remove")
+    if args.remove:
+        return None
+    if args.until is not None:
+        due = late_policy.gradebook_due(args.db, args.assignment)
+        if due is None:
+            raise ValueError(f"--until needs the assignment's due date in the gradebook (nbgrader db assignment add {args.assignment} --duedate=...)")
+        until = late_policy.parse_due(args.until)
+        if until <= due:
+            raise ValueError(f"--until {args.until!r} is not after the assignment's due date ({due:%Y-%m-%d %H:%M} UTC)")
+        return until - due
+    extension = timedelta(days=args.days or 0, hours=args.hours or 0)
+    if extension <= timedelta(0):
+        raise ValueError("an extension needs --days, --hours or --until (or --remove to take one back)")
+    return extension
+
+
+def _cmd_extension(args) -> int:
+    from grader import late_policy
+    from grader.paths import course_paths
+
+    args.db = args.db or course_paths().gradebook_url
+    extension = _extension(args)
+    for student in args.student:
+        late_policy.grant_extension(args.db, args.assignment, student, extension)
+    due = late_policy.gradebook_due(args.db, args.assignment)
+    who = ", ".join(repr(s) for s in args.student)
+    if extension is None:
+        print(f"removed the extension of {who} on {args.assignment}")
+    else:
+        print(f"granted {who} an extension of {extension} on {args.assignment}"
+              + (f": due for them {due + extension:%Y-%m-%d %H:%M} UTC" if due else " (the assignment has no due date yet)"))
+    print("it applies at the next `deformlab grade` (--student ID regrades one student)")
     return 0
 
 
@@ -259,6 +361,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "per-day:FRACTION (e.g. per-day:0.1), or module:Class of an nbgrader plugin "
                         "(default: the plugin nbgrader_config.py sets with c.AssignLatePenalties.plugin_class, "
                         "configured there, e.g. c.LateSubmissionPlugin.penalty_method = 'zero'; nbgrader's default is none)")
+    p.add_argument("--late-days", type=_non_negative_int, default=None, metavar="N",
+                   help="late days each student may spend across the course's assignments before any penalty "
+                        "(default: c.LateDays.budget in nbgrader_config.py, else 0)")
     p.add_argument("--student", default=None, metavar="ID",
                    help="grade this student again (e.g. after a late submission); the others' results in OUT are kept as they are")
     p.add_argument(
@@ -289,8 +394,22 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the LMS's name of the assignment column, e.g. 'Deformation (12345)' for Canvas (default: the assignment)")
     p.add_argument("--roster", default=None, help="Canvas only: Canvas's gradebook export, to match students by SIS Login ID, SIS User ID or ID")
     p.add_argument("--submitted", default=None, help="nbgrader-feedback only: the SUBMITTED folder that was graded")
+    p.add_argument("--db", default=None,
+                   help="SQLAlchemy URL of the nbgrader gradebook whose hand grading (formgrader) the export includes "
+                        "(default: the course's SQLite)")
     p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
     p.set_defaults(run=_cmd_export)
+
+    p = sub.add_parser("extension", help="give students an extension on the assignment, in nbgrader's gradebook")
+    p.add_argument("student", nargs="+", help="the students' nbgrader ids")
+    when = p.add_mutually_exclusive_group()
+    when.add_argument("--days", type=_positive_float, default=None, help="days added to the due date (with --hours: both)")
+    when.add_argument("--until", default=None, help="the student's own due date, e.g. '2026-11-23 23:59:00 Europe/Paris'")
+    when.add_argument("--remove", action="store_true", help="take the extension back")
+    p.add_argument("--hours", type=_positive_float, default=None, help="hours added to the due date")
+    p.add_argument("--db", default=None, help="SQLAlchemy URL of the nbgrader gradebook (default: the course's SQLite)")
+    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.set_defaults(run=_cmd_extension)
 
     p = sub.add_parser("gradescope", help="build a Gradescope autograder zip")
     p.add_argument("--out", required=True, help="path of the zip to write")

@@ -41,25 +41,42 @@ from grader.build.source_notebook import HIDDEN_MARKERS, authored_notebooks, bui
 from grader.contract import ASSIGNMENT, CONTRACT_NAMES, is_bonus, reference_function
 from grader.paths import COURSE_ID, CoursePaths, course_paths
 
-STUDENT_REQUIREMENTS = """numpy>=1.26
-scipy>=1.11
-libigl>=2.6.3
-pyvista>=0.44
-matplotlib>=3.8
-pillow>=10.0
-ipywidgets>=8.0
-ipyevents>=2.0
-jupyterlab>=4.0
-ipykernel>=6.29
-nbclient>=0.10
-nbformat>=5.9
-"""
+#: What a student installs; pinned at release time as constraints.txt pins it (see ``student_requirements``).
+STUDENT_PACKAGES = ("numpy", "scipy", "libigl", "pyvista", "matplotlib", "pillow", "ipywidgets", "ipyevents", "jupyterlab",
+                    "ipykernel", "nbclient", "nbformat")
+
+
+def student_requirements(paths: CoursePaths) -> str:
+    """The bundle's ``requirements.txt``: each package at the version ``constraints.txt`` pins, else at the one the release ran with.
+
+    Students then compute with the numeric stack the grader checks them against.
+    """
+    from importlib.metadata import PackageNotFoundError, version
+
+    pinned = {}
+    constraints = paths.root / "constraints.txt"
+    if constraints.is_file():
+        for line in constraints.read_text().splitlines():
+            name, sep, ver = line.split("#", 1)[0].strip().partition("==")
+            if sep:
+                pinned[name.lower().replace("_", "-")] = ver.strip()
+    lines = []
+    for name in STUDENT_PACKAGES:
+        ver = pinned.get(name)
+        if ver is None:
+            try:
+                ver = version(name)
+            except PackageNotFoundError:
+                raise ReleaseError(f"{name} is neither pinned in constraints.txt nor installed: cannot pin the bundle's requirements") from None
+        lines.append(f"{name}=={ver}")
+    return "# The versions this assignment was released and checked with (as constraints.txt pins them).\n" + "\n".join(lines) + "\n"
+
 
 STUDENT_README = """# Deformation assignment
 
-Six notebooks, one per stage: `00_meshes` (warm-up), `01_shape_matching`,
-`02_sign_correction`, `03_arap`, `04_bbw`, `05_lbs`, and a seventh for bonus
-points, `06_fast` (ARAP in the skinning subspace). `07_tetrahedra` takes the
+Eight notebooks, one per stage: `00_meshes` (warm-up), `01_shape_matching`,
+`02_sign_correction`, `03_arap`, `04_bbw`, `05_lbs`, `06_fast` for bonus
+points (ARAP in the skinning subspace), and `07_tetrahedra`, which takes the
 lecture to volumes: finite elements and ARAP on tetrahedral meshes. In each, fill in one
 function at a time where it says `YOUR CODE HERE`, then run the tests cell below
 it: its messages say what is wrong.
@@ -389,6 +406,14 @@ def add_course_files(paths: CoursePaths, assignment: str) -> None:
         shutil.copyfile(f, target / relative)
 
 
+def _readable(name: str) -> zipfile.ZipInfo:
+    """A zip entry written from memory, mode 0644 (``writestr`` with a bare name gives 0600, unreadable to a course's group)."""
+    info = zipfile.ZipInfo(name, date_time=time.localtime()[:6])
+    info.compress_type = zipfile.ZIP_DEFLATED
+    info.external_attr = 0o100644 << 16
+    return info
+
+
 def write_bundle(paths: CoursePaths, assignment: str) -> Path:
     """``dist/<assignment>-student.zip``: release notebooks, the demo, starter/, data/, requirements, README, self-check."""
     from grader import student_check
@@ -400,13 +425,11 @@ def write_bundle(paths: CoursePaths, assignment: str) -> Path:
         root = f"{assignment}"
         for nb in sorted((paths.release / assignment).glob("*.ipynb")):
             z.write(nb, f"{root}/{nb.name}")
-        z.writestr(f"{root}/{DEMO}.ipynb", nbformat.writes(demo_notebook(paths)))
-        for folder in ("starter", "data"):
-            for f in sorted((paths.root / folder).rglob("*")):
-                if f.is_file() and "__pycache__" not in f.parts and f.suffix in (".py", ".npz", ".md"):
-                    z.write(f, f"{root}/{f.relative_to(paths.root)}")
-        z.writestr(f"{root}/requirements.txt", STUDENT_REQUIREMENTS)
-        z.writestr(f"{root}/README.md", STUDENT_README)
+        z.writestr(_readable(f"{root}/{DEMO}.ipynb"), nbformat.writes(demo_notebook(paths)))
+        for f, relative in course_files(paths):
+            z.write(f, f"{root}/{relative}")
+        z.writestr(_readable(f"{root}/requirements.txt"), student_requirements(paths))
+        z.writestr(_readable(f"{root}/README.md"), STUDENT_README)
         z.write(student_check.__file__, f"{root}/check_notebook.py")
     tmp.replace(target)
     return target

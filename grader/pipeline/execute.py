@@ -9,6 +9,7 @@ replayed, and execution goes on with the next cell.
 
 from __future__ import annotations
 
+import re
 import functools
 import gc
 import math
@@ -117,10 +118,15 @@ def _cap_outputs(cell) -> None:
                 break
 
 
+#: IPython compiles each cell as a temporary file (``/tmp/ipykernel_7/2723624691.py``), which a student never sees.
+_CELL_FILE = re.compile(r"\((?:[^()\s]*/)?\d+\.py, line (\d+)\)")
+
+
 def _error_of(cell) -> str | None:
     for out in cell.get("outputs", []):
         if out.get("output_type") == "error":
-            return f"{out.get('ename', 'Error')}: {str(out.get('evalue', ''))[:500]}"
+            evalue = _CELL_FILE.sub(r"(line \1 of the cell)", str(out.get("evalue", "")))
+            return f"{out.get('ename', 'Error')}: {evalue[:500]}"
     return None
 
 

@@ -153,7 +153,9 @@ def feedback_html(spec, results: list, notes: list[str]) -> str:
     Notes
     -----
     The page keeps a ``<!-- late -->`` mark below the score, where
-    ``grader.late_policy`` puts the late line once a due date is applied.
+    ``grader.late_policy`` puts the late line once a due date is applied, and
+    ``<!-- manual -->…<!-- /manual -->`` around the hand-graded points, which
+    ``grader.exports.nbgrader_feedback`` replaces with the TA's grades.
     """
     source = nbformat.reads(spec.source, as_version=4)
     max_score = sum(cell.points for cell in graded_cells(source))
@@ -183,6 +185,8 @@ def feedback_html(spec, results: list, notes: list[str]) -> str:
         bonus=is_bonus(spec.notebook),
         manual_points=sum(points for _, points in manual),
         manual_cells=[gid for gid, _ in manual],
+        # A missing or unreadable notebook has no written answers for a TA to read.
+        handed_in=spec.submission is not None and not spec.submission_error,
         notes=notes,
         functions=functions,
         pictures=pictures,

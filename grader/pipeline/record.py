@@ -99,12 +99,66 @@ def write_feedback(out: Path, result: dict) -> None:
         write_text_atomic(Path(out) / "feedback" / safe_name(result["student_id"]) / f"{result['notebook']}.html", result["feedback_html"])
 
 
+#: Control characters (but tab and newline) of a message: a TA's page shows text, never terminal or markup codes.
+_CONTROL = dict.fromkeys([*range(0, 9), *range(11, 32), 127], None)
+
+
+def verdict_text(test: dict) -> str:
+    """What a tests cell shows in formgrader: its score and the feedback page's verdict per hidden case, as plain text."""
+    lines = [f"{test['function']}: {test['score']:g} / {test['points']:g} points (hidden tests, judged by the grader outside "
+             f"the student's kernel; this cell itself was not run)", str(test.get("summary", ""))]
+    for case in test.get("cases", []):
+        why = "passed" if case.get("passed") else (case.get("error") or "; ".join(case.get("failed", [])))
+        lines.append(f"- {case.get('label', '')}: {why}")
+    return "\n".join(lines).translate(_CONTROL) + "\n"
+
+
+def with_verdicts(notebook_json: str, tests: list[dict], answers: dict | None = None, bonus: bool = False) -> str:
+    """The executed notebook as formgrader shows it to a TA.
+
+    Each tests cell gets its verdicts as its output (a text stream; formgrader
+    escapes it), and each written answer in ``answers`` (grade id -> model
+    answer and points, ``grader.exports.ta_notes.model_answers``) is followed by
+    the TA's cell with the model answer and a rubric.
+    """
+    from grader.exports.ta_notes import ta_note
+
+    nb = json.loads(notebook_json)
+    by_id = {t["grade_id"]: t for t in tests}
+    cells = []
+    for cell in nb.get("cells", []):
+        grade_id = ((cell.get("metadata") or {}).get("nbgrader") or {}).get("grade_id")
+        test = by_id.get(grade_id)
+        if cell.get("cell_type") == "code" and test is not None:
+            cell["outputs"] = [{"output_type": "stream", "name": "stdout", "text": verdict_text(test)}]
+        cells.append(cell)
+        if cell.get("cell_type") == "markdown" and grade_id in (answers or {}):
+            note = ta_note(*answers[grade_id], bonus=bonus)
+            if nb.get("nbformat_minor", 0) >= 5:  # cell ids exist from nbformat 4.5 on; grade ids are unique
+                note["id"] = f"ta-note-{grade_id}"[:64]
+            else:
+                del note["id"]
+            cells.append(note)
+    nb["cells"] = cells
+    return json.dumps(nb, ensure_ascii=False)
+
+
 def write_autograded(autograded: Path, result: dict) -> None:
-    """The executed notebook where formgrader looks for it (``<course>/autograded``)."""
+    """The executed notebook where formgrader looks for it (``<course>/autograded``), as :func:`with_verdicts` makes it.
+
+    Tests cells are not run when grading (their verdicts are computed outside
+    the kernel), so without their verdicts formgrader would show them empty, and
+    a TA grading by hand would not see why a test failed. Model answers come
+    from the course's instructor notebook (``<course>/source/<assignment>/``,
+    beside ``autograded/`` as nbgrader lays a course out).
+    """
+    from grader.exports.ta_notes import model_answers
+
     if result.get("autograded_notebook"):
+        source = Path(autograded).parent / "source" / result["assignment"] / f"{result['notebook']}.ipynb"
         write_text_atomic(
             Path(autograded) / safe_name(result["student_id"]) / result["assignment"] / f"{result['notebook']}.ipynb",
-            result["autograded_notebook"],
+            with_verdicts(result["autograded_notebook"], result.get("tests", []), model_answers(source), is_bonus(result["notebook"])),
         )
 
 
@@ -151,9 +205,24 @@ def open_gradebook(db_url: str):
 def record_gradebook(gb, result: dict) -> None:
     """Store a unit's autograded scores in an open nbgrader ``Gradebook`` (retried on a lost race).
 
-    Manually graded cells (short answers) are flagged for formgrader.
+    Manually graded cells (short answers) are flagged for formgrader. A bonus
+    notebook's points are nbgrader's extra credit (see :func:`bonus_as_extra_credit`).
     """
     retry_on_conflict(lambda: _record_gradebook_once(gb, result), gb.db.rollback)
+
+
+def bonus_as_extra_credit(gb, assignment: str, notebook: str) -> None:
+    """Give the grade cells of a bonus notebook a maximum of 0 in the gradebook (not committed).
+
+    nbgrader has no bonus notebook, but each grade has ``extra_credit``, which counts in
+    every score and in no maximum: with its cells worth 0, the bonus notebook's
+    earned points, stored as extra credit, are extra credit in formgrader, the
+    gradebook's totals and ``nbgrader export``. ``generate_assignment`` writes
+    the notebook's points again; every grading run puts this back.
+    """
+    for cell in gb.find_notebook(notebook, assignment).grade_cells:
+        if cell.max_score != 0:
+            cell.max_score = 0.0
 
 
 def _record_gradebook_once(gb, result: dict) -> None:
@@ -164,10 +233,16 @@ def _record_gradebook_once(gb, result: dict) -> None:
         warnings.filterwarnings("ignore", message=".*not in session.*")
         gb.update_or_create_submission(assignment, sid)
     scores = {t["grade_id"]: t["score"] for t in result["tests"]}
+    bonus = is_bonus(notebook)
+    if bonus:
+        bonus_as_extra_credit(gb, assignment, notebook)
     submitted = gb.find_submission_notebook(notebook, assignment, sid)
     for grade in submitted.grades:
         if grade.name in scores:
-            grade.auto_score = scores[grade.name]
+            if bonus:  # a bonus cell is worth 0: what it earned is extra credit
+                grade.auto_score, grade.extra_credit = 0.0, scores[grade.name] or None
+            else:
+                grade.auto_score = scores[grade.name]
             grade.needs_manual_grade = False
         elif grade.cell.cell_type == "markdown":
             grade.auto_score = None

@@ -16,6 +16,7 @@ import functools
 import hashlib
 import json
 import logging
+import re
 import multiprocessing.util
 import threading
 import time
@@ -328,6 +329,7 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
     )
     if _prestarting:  # the student's kernel is gone: the next unit's boots while this one is verified
         _prestart_next(spec, readonly)
+    failed_defs = {fn: i for i, _ in run.cell_failures.items() for fn in _defined(sanitized.nb.cells[i])}
     tests, results = [], []
     for cell in cells:
         if cell.function in broken:
@@ -335,6 +337,14 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
                           "score": 0.0, "summary": broken[cell.function], "cases": []})
             continue
         result, collected = _verified(cell.function, spec.seed, outputs, run.collection_failures.get(cell.function))
+        if cell.function in failed_defs and result.cases and all(
+                (c.error or "").startswith(f"NameError: {cell.function} is not defined") for c in result.cases):
+            # Its defining cell failed (a syntax error, say): say so, not "NameError".
+            i = failed_defs[cell.function]
+            result = verify(cell.function, spec.seed, None,
+                            f"{cell.function} was never defined: {_cell_name(sanitized.nb.cells[i])} failed with "
+                            f"{run.cell_failures[i]}")
+            collected = None
         # Pictures only where a case failed: a passing function's picture tells its student
         # nothing new, and drawing it cost as much CPU as the rest of the unit.
         results.append((cell, result, collected if result.fraction < 1 else None))
@@ -360,7 +370,7 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
             }
         )
     _complete_spare_launch()  # its sandbox was built while this unit was verified; its kernel boots now
-    reasons = [f"cell {i + 1}: {why}" for i, why in sorted(run.cell_failures.items())]
+    reasons = [f"{_cell_name(sanitized.nb.cells[i])}: {why}" for i, why in sorted(run.cell_failures.items())]
     status = "grader-error" if broken else "graded" if not run.events else "graded-with-incidents"
     reasons += list(broken.values())
     notes = spec.notes + sanitized.notes + neutralize(sanitized.nb, source)  # nothing active reaches a TA's browser
@@ -383,6 +393,23 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
         feedback_html=feedback,
         autograded_notebook=_notebook_json(sanitized.nb),
     )
+
+
+_DEF = re.compile(r"^def\s+(\w+)\s*\(", re.M)
+
+
+def _defined(cell) -> list[str]:
+    """The functions a code cell defines at top level (read from its text: a cell with a syntax error has no AST)."""
+    return _DEF.findall(cell.get("source", "")) if cell.get("cell_type") == "code" else []
+
+
+def _cell_name(cell) -> str:
+    """A cell as a student finds it in JupyterLab, which shows no cell numbers: by what it defines, else its first line."""
+    defined = _defined(cell)
+    if defined:
+        return "the cell defining " + ", ".join(f"{fn}()" for fn in defined)
+    first = next((line.strip() for line in cell.get("source", "").splitlines() if line.strip()), "")
+    return f'the cell starting "{first[:60]}{"…" if len(first) > 60 else ""}"'
 
 
 def _notebook_json(nb: nbformat.NotebookNode) -> str:

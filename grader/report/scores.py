@@ -59,3 +59,19 @@ def class_summary(results: list[dict]) -> str:
         parts += [score_table(results, students, notebooks), ""]
     parts.append(notebook_stats(results, notebooks))
     return "\n".join(parts)
+
+
+def late_students(rows: list[dict]) -> list[dict]:
+    """Per late student of a ``grades.csv`` (its rows as dicts): hours late, late days spent on this assignment, total penalty.
+
+    Rows without the late columns (no due date was applied) are on time.
+    """
+    late: dict[str, dict] = {}
+    for row in rows:
+        seconds = float(row.get("seconds_late") or 0)
+        if seconds <= 0:
+            continue
+        entry = late.setdefault(row["student_id"], {"student_id": row["student_id"], "hours_late": round(seconds / 3600, 2),
+                                                    "late_days": int(row.get("late_days") or 0), "late_penalty": 0.0})
+        entry["late_penalty"] = round(entry["late_penalty"] + float(row.get("late_penalty") or 0), 4)
+    return sorted(late.values(), key=lambda e: (-e["hours_late"], e["student_id"]))

@@ -40,6 +40,9 @@ HOSTILE = ROOT / "tests" / "corpus" / "hostile"
 ATTACKS = ["displays_script_in_definition_cell", "displays_svg_widget_and_fake_png", "markdown_answer_with_html",
            "cell_metadata_injects_html"]
 HONEST = "honest_student"
+#: A student whose ``edges`` raises an error with markup in its message: formgrader must show it as text.
+MARKUP = "markup_in_error"
+MARKUP_EDGES = 'def edges(F):\n    raise ValueError("<img src=x onerror=alert(\'deformlab-attack:verdict\')> not done")\n'
 SEED = 20240611
 SETTLE_S = 1.0  # after the page is idle (no request for 0.5 s); the control's scripts have reported by then
 
@@ -82,6 +85,9 @@ def course(workdir, source_notebooks):
     honest = submitted / HONEST / "deformation" / f"{NOTEBOOK}.ipynb"
     honest.parent.mkdir(parents=True)
     nbformat.write(student_notebook(nbformat.read(source_notebooks[NOTEBOOK], as_version=4), {}), honest)
+    markup = submitted / MARKUP / "deformation" / f"{NOTEBOOK}.ipynb"
+    markup.parent.mkdir(parents=True)
+    nbformat.write(student_notebook(nbformat.read(source_notebooks[NOTEBOOK], as_version=4), {"edges": MARKUP_EDGES}), markup)
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("DEFORMLAB_ROOT", str(paths.root))
         # nbgrader's Gradebook runs the `alembic` script of this environment
@@ -129,6 +135,9 @@ def log_in(browser, server) -> None:
     """Log the browser in as the TA with the server's token, through the login form (a session cookie)."""
     page = browser.new_page()
     page.goto(f"{server.url}/login")
+    if page.locator("input[name=password]").count() == 0:  # logged in by an earlier test: the session cookie holds
+        page.close()
+        return
     page.fill("input[name=password]", server.token)
     with page.expect_navigation():
         page.press("input[name=password]", "Enter")
@@ -210,3 +219,45 @@ def test_opening_an_attackers_submission_in_formgrader_runs_none_of_its_scripts(
                      f"{len(changed)} grade(s) rewritten")
         before = after
     report_summary("formgrader", "\n".join([f"formgrader in Chromium ({time.monotonic() - started:.1f} s):", *lines]))
+
+
+def test_each_tests_cell_shows_its_verdicts_in_formgrader_as_text(course, formgrader, browser, workdir):
+    log_in(browser, formgrader)
+    texts = {}
+    for sid in (HONEST, MARKUP):
+        page = browser.new_page()
+        dialogs: list[str] = []
+        page.on("dialog", lambda dialog: (dialogs.append(dialog.message), dialog.dismiss()))
+        page.goto(f"{formgrader.url}/formgrader/submissions/{submission_id(course.db_url, sid)}/?index=0")
+        page.wait_for_load_state("networkidle")
+        page.wait_for_timeout(SETTLE_S * 1000)
+        page.screenshot(path=str(workdir / f"{sid}-verdicts.png"), full_page=True)
+        texts[sid] = page.inner_text("body")
+        assert page.locator("img[src=x]").count() == 0 and dialogs == [], f"{sid}: the message was rendered as markup"
+        page.close()
+    tests = course.results[MARKUP]["tests"]
+    edges = next(t for t in tests if t["function"] == "edges")
+    assert edges["score"] == 0 and edges["cases"]
+    assert "ValueError: <img src=x onerror=alert('deformlab-attack:verdict')> not done" in edges["cases"][0]["error"]
+    # Under each tests cell, the feedback page's verdict lines, word for word.
+    for t in tests:
+        assert f"{t['function']}: {t['score']:g} / {t['points']:g} points (hidden tests" in texts[MARKUP]
+        for c in t["cases"]:
+            assert f"- {c['label']}: {'passed' if c['passed'] else c['error'] or '; '.join(c['failed'])}" in texts[MARKUP]
+    assert texts[HONEST].count("hidden cases passed") == len(course.results[HONEST]["tests"])
+
+
+def test_each_written_answer_is_followed_by_the_model_answer_and_a_rubric_for_the_ta(course, formgrader, browser):
+    log_in(browser, formgrader)
+    source = nbformat.read(course.paths.source_notebooks()[0], as_version=4)
+    answers = [(c.metadata.nbgrader["grade_id"], c.metadata.nbgrader["points"]) for c in source.cells
+               if c.cell_type == "markdown" and (c.metadata.get("nbgrader") or {}).get("grade")]
+    page = browser.new_page()
+    page.goto(f"{formgrader.url}/formgrader/submissions/{submission_id(course.db_url, HONEST)}/?index=0")
+    page.wait_for_load_state("networkidle")
+    text = page.inner_text("body")
+    page.close()
+    notes = text.split("For the TA: not part of the student's notebook")[1:]
+    assert answers and len(notes) == len(answers)
+    for (_, points), note in zip(answers, notes):
+        assert note.index(f"Model answer ({points:g} points)") < note.index("Rubric") < note.index("0: no answer")

@@ -97,7 +97,7 @@ def test_without_flags_the_due_date_comes_from_the_gradebook_and_the_plugin_from
     seen = {}
     monkeypatch.setattr(run, "grade_class", lambda submitted, out, options: [])
     monkeypatch.setattr(late_policy, "apply_late_policy",
-                        lambda out, submitted, assignment, due, plugin, db_url: seen.update(due=due, plugin=plugin) or {})
+                        lambda out, submitted, assignment, due, plugin, db_url, **kw: seen.update(due=due, plugin=plugin) or {})
     main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--db", db])
     assert seen["due"] == datetime(2026, 11, 20, 22, 59)
     # the course's nbgrader_config.py sets no plugin: nbgrader's own, which charges nothing

@@ -130,6 +130,23 @@ def test_one_student_is_graded_again_without_touching_the_others(graded, source_
     assert main(["grade", *argv]) == 0  # and back: the original bob is graded again on the plain re-run
 
 
+def test_regrading_one_late_student_leaves_every_other_students_late_penalty_as_it_was(graded):
+    tmp, out, _, argv = graded
+    stamps = {sid: tmp / "submitted" / sid / "deformation" / "timestamp.txt" for sid in ("Ada_Lovelace", "carol")}
+    for path in stamps.values():
+        path.write_text("2026-11-22 10:00:00.000000 UTC")  # both late; the first run had no due date
+    try:
+        assert main(["grade", *argv, "--student", "carol", "--due", "2026-11-20 23:59:00 UTC", "--late-policy", "zero"]) == 0
+    finally:
+        for path in stamps.values():
+            path.unlink()
+    table = {(r["student_id"], r["notebook"]): r for r in rows(out)}
+    carol, ada = table[("carol", NOTEBOOK)], table[("Ada_Lovelace", NOTEBOOK)]
+    assert float(carol["late_penalty"]) == float(carol["score"]) > 0
+    assert (ada["seconds_late"], ada["late_penalty"]) == ("0", "0"), "Ada was not regraded: her row stays as it was"
+    assert "Late:" not in (out / "feedback" / "Ada_Lovelace" / f"{NOTEBOOK}.html").read_text()
+
+
 def test_an_unknown_student_is_a_usage_error(graded, capsys):
     _, _, _, argv = graded
     assert main(["grade", *argv, "--student", "nobody"]) == 2
@@ -147,3 +164,21 @@ def test_a_process_cap_that_is_not_a_positive_integer_is_a_usage_error(tmp_path,
         main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--max-processes", bad])
     assert stop.value.code == 2
     assert f"--max-processes: must be a positive integer, got {bad!r}" in capsys.readouterr().err
+
+
+def test_a_syntax_error_is_named_where_the_student_wrote_it_not_as_a_name_error(tmp_path, source_notebooks):
+    submitted = tmp_path / "submitted" / "sam" / "deformation"
+    submitted.mkdir(parents=True)
+    broken = "import numpy as np\n\n\ndef centroid(P, w=None):\n    P = np.asarray(P, float\n    return P.mean(axis=0)\n"
+    nbformat.write(student_notebook(nbformat.read(source_notebooks[NOTEBOOK], as_version=4), {"centroid": broken}),
+                   submitted / f"{NOTEBOOK}.ipynb")
+    out = tmp_path / "out"
+    assert main(["grade", str(tmp_path / "submitted"), "--out", str(out), "--workers", "1", "--db", f"sqlite:///{tmp_path}/gb.db"]) == 0
+    unit = json.loads((out / "units" / "sam" / f"{NOTEBOOK}.json").read_text())
+    centroid = next(t for t in unit["tests"] if t["function"] == "centroid")
+    assert centroid["score"] == 0
+    assert centroid["summary"] == ("centroid was never defined: the cell defining centroid() failed with "
+                                   "SyntaxError: '(' was never closed (line 5 of the cell)")
+    assert unit["reasons"] == ["the cell defining centroid(): SyntaxError: '(' was never closed (line 5 of the cell)"]
+    page = (out / "feedback" / "sam" / f"{NOTEBOOK}.html").read_text()
+    assert "ipykernel" not in page and ".py, line" not in page and "NameError: centroid" not in page

@@ -133,3 +133,24 @@ def test_the_leak_scan_finds_hidden_test_markers():
     problems = scan_for_leaks({"release/02.ipynb": "### BEGIN HIDDEN TESTS\nfrom grader.checks import x"})
     assert any("BEGIN HIDDEN TESTS" in p for p in problems)
     assert any("grader.checks" in p for p in problems)
+
+
+def test_the_bundles_readme_names_every_notebook_its_files_are_readable_and_its_requirements_pinned(tmp_path):
+    for name in ("notebooks", "starter", "data", "constraints.txt"):
+        (tmp_path / name).symlink_to(ROOT / name)
+    paths = CoursePaths(tmp_path)
+    (paths.release / "deformation").mkdir(parents=True)
+    with zipfile.ZipFile(write_bundle(paths, "deformation")) as z:
+        modes = {i.filename: (i.external_attr >> 16) & 0o777 for i in z.infolist()}
+        requirements = z.read("deformation/requirements.txt").decode()
+        readme = z.read("deformation/README.md").decode()
+    assert {name for name, mode in modes.items() if mode & 0o044 != 0o044} == set(), "every file readable by group and others"
+    stages = sorted(p.stem for p in (ROOT / "notebooks" / "deformation").glob("[0-9][0-9]_*.py"))
+    first = readme.split("\n\n")[1]
+    assert first.split()[0] == "Eight" and len(stages) == 8 and all(f"`{s}`" in first for s in stages)
+    pins = dict(line.split("==") for line in (ROOT / "constraints.txt").read_text().splitlines()
+                if "==" in line and not line.startswith("#"))
+    wanted = dict(line.split("==") for line in requirements.splitlines() if not line.startswith("#"))
+    assert wanted and all(">" not in v for v in wanted.values())
+    assert {n: v for n, v in wanted.items() if n in pins} == {n: pins[n] for n in wanted if n in pins}
+    assert {"numpy", "scipy", "libigl", "pyvista"} <= set(pins) & set(wanted)

@@ -33,8 +33,8 @@ def test_the_case_failed_most_names_its_students_and_hides_their_ids(graded_clas
     cases = read_csv(page.parent / "cases.csv")
     top = cases[0]
     assert top["function"] in ("optimal_rotation", "rigid_align")
-    # bob and carl (the copy) fail the reflection cases; blank fails everything: 3 students.
-    assert int(top["students_failed"]) == 3
+    # bob and carl (the copy) fail the reflection cases; blank left every function as the stub, which is not a failure.
+    assert int(top["students_failed"]) == 2
     for sid in ("bob", "carl", "blank"):
         assert not re.search(rf"\b{sid}\b", cases[0]["example_message"])
 
@@ -59,3 +59,13 @@ def test_deformlab_report_writes_the_page_and_says_where(graded_class, capsys, t
 def test_report_of_a_folder_that_was_not_graded_is_a_usage_error(tmp_path, capsys):
     assert main(["report", str(tmp_path)]) == 2
     assert "has no grades.csv" in capsys.readouterr().err
+
+
+def test_unattempted_functions_do_not_fill_the_hidden_cases_failed_most(graded_class):
+    _, _, out, results = graded_class
+    blank = [c for r in results if r["student_id"] == "blank" for t in r["tests"] for c in t["cases"]]
+    assert blank and all(c["error"].startswith("NotImplementedError") for c in blank)
+    cases = read_csv(write_class_report(out).parent / "cases.csv")
+    assert cases and not any("NotImplementedError" in c["example_message"] for c in cases)
+    # Only bob's and carl's reflection failures are left, on the functions they got wrong.
+    assert {c["function"] for c in cases} <= {"optimal_rotation", "rigid_align"}

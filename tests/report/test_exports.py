@@ -100,3 +100,115 @@ def test_nbgrader_release_feedback_returns_the_exported_pages(graded_class, tmp_
     assert len(released) == 2
     assert {p.read_text() for p in released} == {
         (out / "feedback" / "ada" / f"{nb}.html").read_text() for nb in ("01_shape_matching", "02_sign_correction")}
+
+
+@pytest.fixture
+def hand_graded(graded_class, tmp_path):
+    """A copy of the run's gradebook after a TA's session in formgrader: ada's written answers graded (one with a
+    comment holding markup), bob's first autograded cell changed and given extra credit; carl's answers left."""
+    import shutil
+
+    from nbgrader.api import Gradebook
+
+    paths, _, out, _ = graded_class
+    db = f"sqlite:///{tmp_path}/gb.db"
+    shutil.copy(paths.root / "gb.db", tmp_path / "gb.db")
+    given = {}
+    with Gradebook(db) as gb:
+        for nb in gb.find_submission("deformation", "ada").notebooks:
+            for grade in nb.grades:
+                if grade.cell.cell_type == "markdown":  # as formgrader's API handler saves a score
+                    grade.manual_score = grade.max_score / 2
+                    grade.needs_manual_grade = False
+                    given[(nb.name, grade.name)] = grade.max_score / 2
+        comment = next(c for nb in gb.find_submission("deformation", "ada").notebooks for c in nb.comments
+                       if (nb.name, c.name) == next(iter(given)))
+        comment.manual_comment = "Good, but <b>why</b> the candy wrapper?"
+        bob = gb.find_submission_notebook("01_shape_matching", "deformation", "bob")
+        test = next(g for g in bob.grades if g.cell.cell_type == "code")
+        test.manual_score, test.extra_credit = test.max_score, 1.5
+        gb.db.commit()
+        scores = {s.student.id: (s.score, s.max_score) for s in gb.find_assignment("deformation").submissions}
+    assert given and len(given) == 2, "01 and 02 each have a written answer"
+    return out, db, given, scores
+
+
+def test_lms_totals_are_the_gradebooks_with_every_point_graded_by_hand(hand_graded, tmp_path, capsys):
+    out, db, given, scores = hand_graded
+    target = tmp_path / "canvas.csv"
+    assert main(["export", str(out), "--to", "canvas", "--file", str(target), "--db", db]) == 0
+    rows = read(target)
+    totals = {r[3]: float(r[5]) for r in rows[2:]}
+    assert float(rows[1][5]) == pytest.approx(scores["ada"][1]), "Points Possible counts the written answers"
+    autograded = expected_totals(out)
+    assert totals["ada"] == pytest.approx(autograded["ada"] + sum(given.values())) == pytest.approx(scores["ada"][0])
+    assert totals["bob"] == pytest.approx(scores["bob"][0]) and totals["bob"] > autograded["bob"] + 1.5 - 1e-9
+    assert totals["carl"] == pytest.approx(autograded["carl"])
+    assert "written answer(s) are not graded by hand yet" in capsys.readouterr().err
+    moodle = tmp_path / "moodle.csv"
+    assert main(["export", str(out), "--to", "moodle", "--file", str(moodle), "--db", db]) == 0
+    notes = {r[0]: r[2] for r in read(moodle)[1:]}
+    assert notes["ada"] == f"{sum(given.values()):g} points graded by hand"
+    assert notes["carl"] == "2 written answers not graded yet"
+
+
+def test_exported_feedback_shows_the_hand_grading_and_a_re_export_picks_up_more(hand_graded, graded_class, tmp_path):
+    from nbgrader.api import Gradebook
+
+    out, db, given, _ = hand_graded
+    _, submitted, _, _ = graded_class
+    dest = tmp_path / "feedback"
+    argv = ["export", str(out), "--to", "nbgrader-feedback", "--submitted", str(submitted), "--file", str(dest), "--db", db]
+    assert main(argv) == 0
+    (notebook, cell), points = next(iter(given.items()))
+    page = (dest / "ada" / "deformation" / f"{notebook}.html").read_text()
+    assert f"<li class=\"manual\">{cell}: {points:g} / {2 * points:g}. TA&#x27;s comment: Good, but &lt;b&gt;why&lt;/b&gt; the candy wrapper?</li>" in page
+    assert "your written answers are read by a TA" not in page and "<b>why</b>" not in page
+    bob = (dest / "bob" / "deformation" / "01_shape_matching.html").read_text()
+    assert "set by a TA (autograded: " in bob and "extra credit +1.5" in bob
+    carl = (dest / "carl" / "deformation" / "01_shape_matching.html").read_text()
+    assert "not graded yet" in carl
+    with Gradebook(db) as gb:  # the TA grades carl's answer; the next export shows it
+        for grade in gb.find_submission_notebook("01_shape_matching", "deformation", "carl").grades:
+            if grade.cell.cell_type == "markdown":
+                grade.manual_score, grade.needs_manual_grade = grade.max_score, False
+        gb.db.commit()
+    assert main(argv) == 0
+    carl = (dest / "carl" / "deformation" / "01_shape_matching.html").read_text()
+    assert "not graded yet" not in carl and carl.count("<!-- manual -->") == 1
+
+
+def test_a_missing_notebooks_feedback_promises_no_reading_of_its_written_answers(graded_class):
+    _, _, out, _ = graded_class
+    page = (out / "feedback" / "dan" / "02_sign_correction.html").read_text()
+    assert "there is nothing to grade by hand" in page and "read by a TA" not in page
+    assert "read by a TA" in (out / "feedback" / "dan" / "01_shape_matching.html").read_text()
+
+
+def test_a_page_graded_before_the_manual_marks_still_gets_the_hand_grading():
+    from grader.exports.gradebook import HandGrade
+    from grader.exports.nbgrader_feedback import with_hand_grades
+
+    old = ('<p class="score">Autograded score: <b>3.00 / 5</b></p>\n<!-- late -->\n'
+           '<p class="manual">2 more points of this notebook are graded by hand (answer_nut): your written answers are read by a TA.</p>\n'
+           '<p>The hidden tests ran your functions on inputs drawn with seed 5.</p>')
+    page = with_hand_grades(old, [HandGrade("00_meshes", "answer_nut", True, 1.5, 2.0)])
+    assert "read by a TA" not in page and page.count("<!-- manual -->") == 1
+    assert '<li class="manual">answer_nut: 1.5 / 2</li>' in page and page.index("answer_nut: 1.5") < page.index("The hidden tests ran")
+    bare = with_hand_grades(old.replace(old.split("\n")[2] + "\n", ""), [HandGrade("00_meshes", "answer_nut", True, None, 2.0)])
+    assert "answer_nut: not graded yet" in bare and bare.index("not graded yet") < bare.index("The hidden tests ran")
+
+
+def test_a_gradebook_that_holds_a_student_otherwise_than_the_run_is_not_used_for_that_student(hand_graded, tmp_path, capsys):
+    from nbgrader.api import Gradebook
+
+    out, db, given, _ = hand_graded
+    with Gradebook(db) as gb:  # as if ada had been graded again into this gradebook by another run
+        grade = next(g for g in gb.find_submission_notebook("01_shape_matching", "deformation", "ada").grades if g.cell.cell_type == "code")
+        grade.auto_score = 0.0
+        gb.db.commit()
+    target = tmp_path / "moodle.csv"
+    assert main(["export", str(out), "--to", "moodle", "--file", str(target), "--db", db]) == 0
+    assert "holds other notebooks or autograded points than" in capsys.readouterr().err
+    totals = {r[0]: float(r[1]) for r in read(target)[1:]}
+    assert totals["ada"] == pytest.approx(expected_totals(out)["ada"]), "grades.csv's, without the gradebook's hand grading"
