@@ -18,8 +18,8 @@ reaches the main thread only. So each worker thread hands its units to a
 *grading process* of its own (``GradingProcess``), a child that grades one unit
 at a time in its main thread, as a pool worker does, and keeps what a pool
 worker keeps between units (the kernel template, the next unit's sandbox, the
-reference's outputs). A child that dies costs only the unit it was grading (a
-grader error that says so); the next unit starts a new one.
+reference's outputs). A child that dies is replaced and the unit graded again in
+the new one; a unit whose grading process dies twice is a grader error that says so.
 """
 
 from __future__ import annotations
@@ -183,13 +183,21 @@ def grade_unit_on_worker(spec: UnitSpec, allow_unsandboxed: bool = False, grade:
     SandboxUnavailable
         If this worker cannot sandbox notebooks and ``allow_unsandboxed`` is False.
     GradingProcessDied
-        If the grading process died while grading (recorded as this unit's grader error).
+        If the grading process died twice while grading this unit (recorded as its grader error).
     """
     from distributed import get_worker
 
     if not _sandbox_ready(allow_unsandboxed):
         raise SandboxUnavailable(get_worker().address)
-    return on_grading_process(grade, spec)
+    try:
+        return on_grading_process(grade, spec)
+    except GradingProcessDied:
+        # Once more in a new grading process: something else may have killed the first one
+        # (the kernel's OOM killer picks by size); a unit that kills it again is the culprit.
+        try:
+            return on_grading_process(grade, spec)
+        except GradingProcessDied as exc:
+            raise GradingProcessDied(f"{exc}, twice") from None
 
 
 def _serve() -> None:

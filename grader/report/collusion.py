@@ -286,7 +286,11 @@ def limited_collusion(results: list[dict], submitted: Path, sources: list[Path],
     """
     cpu = caps.cpu_budget(_compared_per_notebook(results))
     wall = caps.wall_seconds(cpu)
-    job = {"results": results, "submitted": str(submitted), "sources": [str(p) for p in sources], "assignment": assignment,
+    # what class_collusion reads of each result, no more
+    slim = [{"student_id": r["student_id"], "notebook": r["notebook"], "status": r["status"],
+             "tests": [{"function": t["function"], "cases": [{"label": c["label"], "digest": c.get("digest")} for c in t.get("cases", [])]}
+                       for t in r.get("tests", [])]} for r in results]
+    job = {"results": slim, "submitted": str(submitted), "sources": [str(p) for p in sources], "assignment": assignment,
            "memory_bytes": caps.memory_bytes, "cpu_seconds": cpu, "max_code_bytes": caps.max_code_bytes}
     # One BLAS thread: the pass does no linear algebra, and each thread would reserve address space.
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
@@ -311,7 +315,8 @@ def limited_collusion(results: list[dict], submitted: Path, sources: list[Path],
         why = f"was killed by signal {signal.Signals(-code).name}"
     else:
         last = err.decode("utf-8", "replace").strip().splitlines()[-1:] or ["no message"]
-        why = f"failed (exit status {code}: {last[0][:300]})"
+        # the message may quote a submission's path: nothing unprintable reaches the TA's terminal
+        why = f"failed (exit status {code}: {''.join(ch if ch.isprintable() else '?' for ch in last[0][:300])})"
     return CollusionEvidence(missing=f"the collusion pass {why}")
 
 

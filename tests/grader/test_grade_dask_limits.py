@@ -55,7 +55,7 @@ def test_verification_and_feedback_on_a_dask_worker_run_under_the_grader_limits(
     entry = load_entry(os.path.join(ROOT, "tests", "corpus", "buggy", "no_sign_correction.py"))
     path = build_submission(entry, source_notebooks[entry.notebook].parent, tmp_path, "bob")
     spec = UnitSpec(student_id="bob", notebook=entry.notebook, submission=path.read_bytes(),
-                    source=source_notebooks[entry.notebook].read_text(), seed=7)
+                    source=source_notebooks[entry.notebook].read_text(), seed=7, timeout=300)  # a busy machine's cells too
 
     def probed_grade(spec):
         # Runs where the worker grades: records each grader_limits block of grade_unit as it is entered.
@@ -85,15 +85,17 @@ def test_verification_and_feedback_on_a_dask_worker_run_under_the_grader_limits(
             unit.grader_limits = original
 
     result, seen, grader_pid = client.submit(grade_unit_on_worker, spec, False, probed_grade, pure=False).result()
-    assert result["status"] == "graded" and 0 < result["score"] < result["max_score"]
+    assert result["status"] == "graded" and 0 < result["score"] < result["max_score"], result["reasons"] + result["events"]
     failed = [t["function"] for t in result["tests"] if t["score"] < t["points"]]
     assert "optimal_rotation" in failed
     # one block per graded function (verification) and one for the feedback page
     assert len(seen) == len(result["tests"]) + 1
     for block in seen:
-        assert block["active"] and block["main_thread"]
-        assert block["rlimit_as"] <= block["vm_size"] + DEFAULT_GRADER_MEMORY_BYTES
-        assert 0 < block["alarm"] <= DEFAULT_GRADER_SECONDS
+        assert block["active"] and block["main_thread"], seen
+        # the cap is the process's size when the block starts plus 2 GiB (another thread, the next
+        # unit's sandbox launch, may map or unmap memory between the probe's reading and the guard's)
+        assert abs(block["rlimit_as"] - (block["vm_size"] + DEFAULT_GRADER_MEMORY_BYTES)) < 256 * 2**20, seen
+        assert 0 < block["alarm"] <= DEFAULT_GRADER_SECONDS, seen
     worker_pids = client.run(os.getpid)
     assert grader_pid not in worker_pids.values()
     # the next unit of this worker thread is graded by the same grading process
@@ -106,3 +108,21 @@ def test_a_grading_process_that_dies_costs_only_its_unit(client):
         client.submit(on_grading_process, os._exit, 9, pure=False).result()
     # a new grading process takes the next unit
     assert client.submit(on_grading_process, os.getpid, pure=False).result() not in (pid, None)
+
+
+def test_a_unit_whose_grading_process_dies_once_is_graded_again_and_twice_is_a_grader_error(client, tmp_path):
+    marker = tmp_path / "died-once"
+
+    def dies_the_first_time(spec):
+        if not marker.exists():
+            marker.touch()
+            os._exit(9)
+        return {"graded_by": os.getpid()}
+
+    def always_dies(spec):
+        os._exit(9)
+
+    result = client.submit(grade_unit_on_worker, None, False, dies_the_first_time, pure=False).result()
+    assert marker.exists() and result["graded_by"] == client.submit(on_grading_process, os.getpid, pure=False).result()
+    with pytest.raises(GradingProcessDied, match=r"died while grading this notebook \(exit status 9\), twice"):
+        client.submit(grade_unit_on_worker, None, False, always_dies, pure=False).result()

@@ -85,6 +85,15 @@ def test_a_collusion_pass_killed_by_its_limit_costs_only_the_collusion_section(h
     assert sorted(p.name for p in page.parent.glob("*.csv")) == ["cases.csv", "functions.csv", "incidents.csv", "notebooks.csv", "resources.csv"]
 
 
+def test_a_collusion_pass_that_fails_costs_only_the_collusion_section(graded_class, tmp_path):
+    paths, submitted, out, results = graded_class
+    gone = tmp_path / "02_sign_correction.ipynb"  # an instructor notebook deleted since grading
+    evidence = limited_collusion(results, submitted, [gone], ASSIGNMENT)
+    assert evidence.pairs == [] and evidence.missing.startswith("the collusion pass failed (exit status 1: FileNotFoundError")
+    html = write_class_report(out, tmp_path / "report", collusion=evidence).read_text()
+    assert _sections(html) == list(SECTIONS) and "This section is missing:</strong> the collusion pass failed" in html
+
+
 def test_a_report_made_without_the_submissions_says_the_pairs_were_not_compared(graded_class, tmp_path):
     _, _, out, _ = graded_class
     html = write_class_report(out, tmp_path / "report").read_text()
