@@ -94,6 +94,15 @@ def test_a_collusion_pass_that_fails_costs_only_the_collusion_section(graded_cla
     assert _sections(html) == list(SECTIONS) and "This section is missing:</strong> the collusion pass failed" in html
 
 
+def test_deformlab_report_tells_the_ta_about_the_cut(huge_class, tmp_path, capsys):
+    from grader.cli import main
+
+    paths, submitted, out, _ = huge_class
+    assert main(["--course", str(paths.root), "report", str(out), "--submitted", str(submitted), "--to", str(tmp_path / "r")]) == 0
+    assert capsys.readouterr().out.strip().endswith("(1 pair(s) with collusion evidence; 1 submission(s) cut at the code cap)")
+    assert f"ada's solution code in {NOTEBOOK} was cut at" in (tmp_path / "r" / "index.html").read_text()
+
+
 def test_a_report_made_without_the_submissions_says_the_pairs_were_not_compared(graded_class, tmp_path):
     _, _, out, _ = graded_class
     html = write_class_report(out, tmp_path / "report").read_text()
