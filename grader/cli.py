@@ -149,8 +149,8 @@ def _cmd_grade(args) -> int:
               + ("; penalties (points): " + ", ".join(f"{s!r} {t.penalty:g}" for s, t in sorted(late.items())[:20]) if late else ""))
     print()
     print(class_summary(results))
-    pairs = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
-    print(f"class report: {write_class_report(Path(args.out), collusion=pairs)} ({len(pairs)} pair(s) with collusion evidence)")
+    evidence = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
+    print(f"class report: {write_class_report(Path(args.out), collusion=evidence)} ({evidence.summary()})")
     errors = [r for r in results if r["status"] == "grader-error"]
     if errors:
         print(f"{len(errors)} notebook(s) could not be graded (grader-error, scored 0): see log.jsonl's reasons; "
@@ -163,11 +163,11 @@ def _cmd_report(args) -> int:
     from grader.paths import course_paths
     from grader.report.class_report import collusion_of_run, write_class_report
 
-    pairs = []
+    evidence = None
     if args.submitted:
-        pairs = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
-    page = write_class_report(Path(args.out), Path(args.to) if args.to else None, collusion=pairs)
-    print(f"class report: {page}" + (f" ({len(pairs)} pair(s) with collusion evidence)" if args.submitted else
+        evidence = collusion_of_run(Path(args.out), Path(args.submitted), args.assignment, course_paths().source_notebooks(args.assignment))
+    page = write_class_report(Path(args.out), Path(args.to) if args.to else None, collusion=evidence)
+    print(f"class report: {page}" + (f" ({evidence.summary()})" if evidence is not None else
                                      " (no collusion evidence: pass --submitted to compare the submissions)"))
     return 0
 

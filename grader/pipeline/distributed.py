@@ -10,13 +10,27 @@ Results stream back in order of completion to the one process
 that records them (``grader.pipeline.run``). A worker that dies mid-unit costs
 nothing: the scheduler runs its units again elsewhere, and only a unit that kills
 workers repeatedly is recorded as a grader error.
+
+A Dask worker runs its tasks in threads, where the grader's own limits on
+verification and feedback (``grader.pipeline.guard.grader_limits``: an
+address-space cap and an alarm) cannot work: both are per process and the alarm
+reaches the main thread only. So each worker thread hands its units to a
+*grading process* of its own (``GradingProcess``), a child that grades one unit
+at a time in its main thread, as a pool worker does, and keeps what a pool
+worker keeps between units (the kernel template, the next unit's sandbox, the
+reference's outputs). A child that dies is replaced and the unit graded again in
+the new one; a unit whose grading process dies twice is a grader error that says so.
 """
 
 from __future__ import annotations
 
-import functools
+import os
+import pickle
 import re
+import struct
+import subprocess
 import sys
+import threading
 import time
 import uuid
 from collections.abc import Callable, Iterator
@@ -72,28 +86,154 @@ def _sandbox_ready(allow_unsandboxed: bool) -> bool:
     return allow_unsandboxed or bwrap_available()
 
 
-def grade_unit_on_worker(spec: UnitSpec, allow_unsandboxed: bool = False) -> dict:
-    """The Dask task: ``grade_unit`` in this worker's sandbox, with the course kit installed here.
+class GradingProcessDied(RuntimeError):
+    """The grading process of a Dask worker died while grading a unit (not the student's kernel: the grader itself)."""
+
+
+class GradingProcess:
+    """A child process that runs calls in its main thread, one at a time (``python -m grader.pipeline.distributed``).
+
+    Calls and answers cross its standard input and output as length-prefixed
+    pickles (``cloudpickle`` for the call, so a function may be defined anywhere);
+    whatever the grading code prints goes to the worker's standard error.
+    """
+
+    def __init__(self):
+        self.process = subprocess.Popen([sys.executable, "-m", "grader.pipeline.distributed"],
+                                        stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+
+    def call(self, fn: Callable, *args):
+        """``fn(*args)`` in the child's main thread; its exception is raised here.
+
+        Raises
+        ------
+        GradingProcessDied
+            If the child exits before it answers.
+        """
+        import cloudpickle
+
+        try:
+            _send(self.process.stdin, cloudpickle.dumps((fn, args)))
+            ok, value = pickle.loads(_receive(self.process.stdout))
+        except (EOFError, BrokenPipeError) as exc:
+            self.close()
+            raise GradingProcessDied(f"the grading process died while grading this notebook (exit status {self.process.returncode})") from exc
+        if not ok:
+            raise value
+        return value
+
+    def close(self) -> None:
+        """End the child (closing its input ends its loop) and reap it."""
+        for stream in (self.process.stdin, self.process.stdout):
+            try:
+                stream.close()
+            except OSError:
+                pass
+        try:
+            self.process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+
+
+def _send(stream, payload: bytes) -> None:
+    stream.write(struct.pack("<Q", len(payload)))
+    stream.write(payload)
+    stream.flush()
+
+
+def _receive(stream) -> bytes:
+    def exactly(n: int) -> bytes:
+        data = stream.read(n)
+        if data is None or len(data) < n:
+            raise EOFError("the other side closed the pipe")
+        return data
+
+    return exactly(struct.unpack("<Q", exactly(8))[0])
+
+
+_thread_local = threading.local()
+
+
+def on_grading_process(fn: Callable, *args):
+    """``fn(*args)`` in the main thread of this thread's grading process (started on first use)."""
+    grading = getattr(_thread_local, "grading", None)
+    if grading is None or grading.process.poll() is not None:
+        grading = _thread_local.grading = GradingProcess()
+    try:
+        return grading.call(fn, *args)
+    except GradingProcessDied:
+        _thread_local.grading = None
+        raise
+
+
+def grade_unit_on_worker(spec: UnitSpec, allow_unsandboxed: bool = False, grade: Callable = grade_unit) -> dict:
+    """The Dask task: ``grade(spec)`` in this worker's grading process, sandboxed, under the grader's own limits.
+
+    Parameters
+    ----------
+    spec : UnitSpec
+    allow_unsandboxed : bool, optional
+        Grade even where bubblewrap is missing.
+    grade : callable, optional
+        ``UnitSpec -> dict``; ``grade_unit``.
 
     Raises
     ------
     SandboxUnavailable
         If this worker cannot sandbox notebooks and ``allow_unsandboxed`` is False.
+    GradingProcessDied
+        If the grading process died twice while grading this unit (recorded as its grader error).
     """
     from distributed import get_worker
 
-    from grader.pipeline.run import _worker_init
-
     if not _sandbox_ready(allow_unsandboxed):
         raise SandboxUnavailable(get_worker().address)
+    try:
+        return on_grading_process(grade, spec)
+    except GradingProcessDied:
+        # Once more in a new grading process: something else may have killed the first one
+        # (the kernel's OOM killer picks by size); a unit that kills it again is the culprit.
+        try:
+            return on_grading_process(grade, spec)
+        except GradingProcessDied as exc:
+            raise GradingProcessDied(f"{exc}, twice") from None
+
+
+def _serve() -> None:
+    """The grading process's loop: each call in this main thread, until the worker closes the pipe (or dies)."""
+    from grader.pipeline.run import _worker_init
+
+    calls = os.fdopen(os.dup(0), "rb")
+    answers = os.fdopen(os.dup(1), "wb")
+    # Nothing else reads the worker's pipe or writes to it: prints go to standard error.
+    devnull = os.open(os.devnull, os.O_RDONLY)
+    os.dup2(devnull, 0)
+    os.close(devnull)
+    os.dup2(2, 1)
     _worker_init()
-    _sweep_once()
-    return grade_unit(spec)
+    _sweep()
+    while True:
+        try:
+            fn, args = pickle.loads(_receive(calls))
+        except EOFError:
+            return
+        try:
+            answer = (True, fn(*args))
+        except Exception as exc:  # noqa: BLE001 - the worker raises it as the task's error
+            answer = (False, exc)
+        try:
+            payload = pickle.dumps(answer)
+        except Exception as exc:  # noqa: BLE001 - an exception that does not pickle is sent as its text
+            payload = pickle.dumps((False, RuntimeError(f"{type(exc).__name__}: {exc}")))
+        try:
+            _send(answers, payload)
+        except BrokenPipeError:  # the worker is gone
+            return
 
 
-@functools.cache
-def _sweep_once() -> None:
-    """What a killed grader left on this machine (work folders with hidden inputs, cgroups): once per worker process."""
+def _sweep() -> None:
+    """What a killed grader left on this machine (work folders with hidden inputs, cgroups): once per grading process."""
     from grader.sandbox.process_limit import remove_stale_limits
     from grader.sandbox.workspace import remove_stale_workspaces
 
@@ -249,3 +389,7 @@ def grade_on_dask(
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+if __name__ == "__main__":
+    _serve()

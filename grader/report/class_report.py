@@ -197,14 +197,20 @@ HEADERS = {
 }
 
 
-def collusion_of_run(out: Path, submitted: Path, assignment: str, sources: list[Path]) -> list[dict]:
-    """Ranked collusion pairs of the run in ``out`` (``grader.report.collusion``)."""
-    from grader.report.collusion import class_collusion
+def collusion_of_run(out: Path, submitted: Path, assignment: str, sources: list[Path]):
+    """Collusion evidence of the run in ``out``, from a child process under limits (``grader.report.collusion``).
 
-    return class_collusion(load_results(out), submitted, sources, assignment)
+    Returns
+    -------
+    grader.report.collusion.CollusionEvidence
+        Ranked pairs and the cuts of oversized code; or none and the reason, if the pass failed or hit a limit.
+    """
+    from grader.report.collusion import limited_collusion
+
+    return limited_collusion(load_results(out), submitted, sources, assignment)
 
 
-def write_class_report(out: Path, target: Path | None = None, collusion: list | None = None) -> Path:
+def write_class_report(out: Path, target: Path | None = None, collusion=None) -> Path:
     """Write ``report/index.html`` and one CSV per table; returns the page's path.
 
     Parameters
@@ -213,8 +219,9 @@ def write_class_report(out: Path, target: Path | None = None, collusion: list | 
         A grading run's output folder.
     target : Path, optional
         Where the report goes (default: ``out/report``).
-    collusion : list of dict, optional
-        Ranked pairs (``grader.report.collusion``) to show side by side.
+    collusion : grader.report.collusion.CollusionEvidence, optional
+        Ranked pairs to show side by side, the cuts of oversized code, or why the pass produced nothing;
+        ``None`` when the submissions were not compared.
     """
     out = Path(out)
     target = Path(target) if target else out / "report"
@@ -224,7 +231,7 @@ def write_class_report(out: Path, target: Path | None = None, collusion: list | 
     for name in CSV_TABLES:
         record.write_text_atomic(target / f"{name}.csv", csv_text(HEADERS[name], getattr(report, name)))
     page = template("report.html.j2").render(
-        report=report, pictures=_figures(report, results), csv_tables=CSV_TABLES, collusion=collusion or [],
+        report=report, pictures=_figures(report, results), csv_tables=CSV_TABLES, collusion=collusion,
         seeds=sorted({r.get("seed") for r in results if r.get("seed") is not None}),
     )
     path = target / "index.html"

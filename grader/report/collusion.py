@@ -11,6 +11,12 @@ Two kinds of evidence, side by side:
   the unit results) most likely come from one piece of code. A wrong output that
   many students share is a common bug, so each shared output counts
   ``1 / (students with it - 1)``.
+
+The pass reads every submission, so it is capped like the rest of the grader:
+each student's own solution code per notebook is cut at ``MAX_CODE_BYTES`` (the
+cut is evidence the report shows), and ``limited_collusion`` runs it in a child
+process under ``CollusionCaps`` (address space, CPU time, wall clock), so that a
+failure or a limit hit costs only the report's collusion section.
 """
 
 from __future__ import annotations
@@ -18,7 +24,13 @@ from __future__ import annotations
 import copy
 import io
 import itertools
+import json
+import os
+import signal
+import subprocess
+import sys
 from collections import defaultdict
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import nbformat
@@ -34,6 +46,76 @@ SIMILARITY_THRESHOLD = 0.7
 WRONG_OUTPUT_THRESHOLD = 2.0
 #: Characters of each side's code shown in the report.
 MAX_SHOWN = 6000
+#: Bytes (UTF-8) of one student's own solution code per notebook that the pass compares; the rest is cut
+#: and the report names the cut. Honest solutions of a whole notebook are a few KiB; at this cap a
+#: fingerprint costs about 0.3 CPU-s and a comparison 2 ms, whatever the code holds.
+MAX_CODE_BYTES = 64 * 2**10
+
+
+@dataclass(frozen=True)
+class CollusionCaps:
+    """The limits of the child process that runs the collusion pass (``limited_collusion``).
+
+    Attributes
+    ----------
+    memory_bytes : int
+        Address space the child may add to what it holds once started (``RLIMIT_AS``).
+    cpu_seconds : float
+        CPU time of the pass, whatever the class: the budget is this ...
+    cpu_seconds_per_submission : float
+        ... plus this per submission compared (reading a notebook at the submission size cap and
+        fingerprinting its capped code) ...
+    cpu_seconds_per_pair : float
+        ... plus this per pair of submissions of one notebook (a comparison of two capped codes).
+    max_code_bytes : int or None
+        ``MAX_CODE_BYTES``; ``None`` compares code uncut.
+    """
+
+    memory_bytes: int = 2 * 2**30
+    cpu_seconds: float = 60.0
+    cpu_seconds_per_submission: float = 1.0
+    cpu_seconds_per_pair: float = 0.005
+    max_code_bytes: int | None = MAX_CODE_BYTES
+
+    def cpu_budget(self, students_per_notebook: list[int]) -> int:
+        """Whole CPU-seconds allowed for a class with these numbers of compared submissions per notebook."""
+        pairs = sum(n * (n - 1) // 2 for n in students_per_notebook)
+        return int(self.cpu_seconds + self.cpu_seconds_per_submission * sum(students_per_notebook)
+                   + self.cpu_seconds_per_pair * pairs) + 1
+
+    def wall_seconds(self, cpu_budget: int) -> float:
+        """Wall-clock time the child may take: its CPU budget three times over (a busy machine) and a minute."""
+        return 3.0 * cpu_budget + 60.0
+
+
+@dataclass
+class CollusionEvidence:
+    """What the collusion pass found, for the report.
+
+    Attributes
+    ----------
+    pairs : list of dict
+        Ranked pairs (``rank_pairs``), strongest evidence first.
+    cuts : list of dict
+        ``student_id, notebook, bytes, cap``: whose own code was cut at ``cap`` bytes (of ``bytes``).
+    missing : str or None
+        Why the pass produced no evidence (a limit hit, a failure); ``None`` when it ran.
+    cpu_seconds, peak_rss_bytes : float or None
+        What the pass cost in its child process, when it ran there.
+    """
+
+    pairs: list[dict] = field(default_factory=list)
+    cuts: list[dict] = field(default_factory=list)
+    missing: str | None = None
+    cpu_seconds: float | None = None
+    peak_rss_bytes: int | None = None
+
+    def summary(self) -> str:
+        """One line for the TA's terminal."""
+        if self.missing:
+            return f"no collusion evidence: {self.missing}"
+        cut = f"; {len(self.cuts)} submission(s) cut at the code cap" if self.cuts else ""
+        return f"{len(self.pairs)} pair(s) with collusion evidence{cut}"
 
 
 def _solution_cells(nb) -> dict[str, str]:
@@ -55,6 +137,22 @@ def boilerplate(source: nbformat.NotebookNode) -> list[str]:
     solutions = ["\n".join(line for line in text.splitlines() if line.strip() not in (BEGIN_SOLUTION, END_SOLUTION))
                  for text in _solution_cells(source).values()]
     return [*_solution_cells(stubs).values(), *solutions]
+
+
+def cap_code(code: str, max_bytes: int | None = MAX_CODE_BYTES) -> tuple[str, int | None]:
+    """``code`` cut at ``max_bytes`` UTF-8 bytes (never inside a character), and its full size if it was cut.
+
+    Returns
+    -------
+    (str, int or None)
+        The code compared, and ``len(code.encode())`` when that is over the cap (else ``None``).
+    """
+    if max_bytes is None or len(code) * 4 <= max_bytes:  # a character is at most 4 bytes: no need to encode
+        return code, None
+    data = code.encode("utf-8", "surrogatepass")
+    if len(data) <= max_bytes:
+        return code, None
+    return data[:max_bytes].decode("utf-8", "ignore"), len(data)
 
 
 def student_code(path: Path, shared: list[str]) -> str:
@@ -120,11 +218,24 @@ def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[s
     return sorted(pairs, key=lambda p: (-p["score"], p["a"], p["b"]))
 
 
-def class_collusion(results: list[dict], submitted: Path, sources: list[Path], assignment: str) -> list[dict]:
-    """Ranked pairs of a graded class, every notebook, from its unit results and submissions."""
+def class_collusion(results: list[dict], submitted: Path, sources: list[Path], assignment: str,
+                    max_code_bytes: int | None = MAX_CODE_BYTES) -> CollusionEvidence:
+    """Ranked pairs of a graded class, every notebook, from its unit results and submissions, in this process.
+
+    Parameters
+    ----------
+    results : list of dict
+        The run's unit results (``grader.report.class_report.load_results``).
+    submitted : Path
+        The SUBMITTED folder that was graded.
+    sources : list of Path
+        The instructor notebooks.
+    max_code_bytes : int or None, optional
+        Each student's own code per notebook is cut there (``MAX_CODE_BYTES``); the cuts are in the evidence.
+    """
     from grader.pipeline.run import find_submission
 
-    pairs = []
+    evidence = CollusionEvidence()
     for source_path in sources:
         source = nbformat.read(source_path, as_version=4)
         shared = boilerplate(source)
@@ -135,8 +246,109 @@ def class_collusion(results: list[dict], submitted: Path, sources: list[Path], a
                 continue
             path, _ = find_submission(Path(submitted) / r["student_id"] / assignment, notebook)
             if path is not None:
-                codes[r["student_id"]] = student_code(path, shared)
+                codes[r["student_id"]], full = cap_code(student_code(path, shared), max_code_bytes)
+                if full is not None:
+                    evidence.cuts.append({"student_id": r["student_id"], "notebook": notebook, "bytes": full, "cap": max_code_bytes})
             wrong[r["student_id"]] = {f"{t['function']}: {c['label']}": c["digest"]
                                       for t in r.get("tests", []) for c in t.get("cases", []) if c.get("digest")}
-        pairs += rank_pairs(codes, shared, wrong, notebook)
-    return sorted(pairs, key=lambda p: (-p["score"], p["notebook"], p["a"], p["b"]))
+        evidence.pairs += rank_pairs(codes, shared, wrong, notebook)
+    evidence.pairs.sort(key=lambda p: (-p["score"], p["notebook"], p["a"], p["b"]))
+    evidence.cuts.sort(key=lambda c: (c["notebook"], c["student_id"]))
+    return evidence
+
+
+def _compared_per_notebook(results: list[dict]) -> list[int]:
+    counts: dict[str, int] = defaultdict(int)
+    for r in results:
+        if r["status"] in ("graded", "graded-with-incidents"):
+            counts[r["notebook"]] += 1
+    return list(counts.values())
+
+
+#: The child's exit status when Python ran out of its address space (``MemoryError``).
+_OUT_OF_MEMORY = 3
+
+
+def limited_collusion(results: list[dict], submitted: Path, sources: list[Path], assignment: str,
+                      caps: CollusionCaps = CollusionCaps()) -> CollusionEvidence:
+    """``class_collusion`` in a child process under ``caps``: a failure costs only the collusion evidence.
+
+    The child (``python -m grader.report.collusion``) reads the submissions, so it
+    runs with an address-space cap, a CPU-time cap that grows with the class
+    (``CollusionCaps.cpu_budget``) and a wall-clock cap; past any of them, or if it
+    fails, the evidence is empty and ``missing`` says why. Nothing the child does
+    reaches the grades.
+
+    Returns
+    -------
+    CollusionEvidence
+        With the child's CPU time and peak resident memory when it finished.
+    """
+    cpu = caps.cpu_budget(_compared_per_notebook(results))
+    wall = caps.wall_seconds(cpu)
+    # what class_collusion reads of each result, no more
+    slim = [{"student_id": r["student_id"], "notebook": r["notebook"], "status": r["status"],
+             "tests": [{"function": t["function"], "cases": [{"label": c["label"], "digest": c.get("digest")} for c in t.get("cases", [])]}
+                       for t in r.get("tests", [])]} for r in results]
+    job = {"results": slim, "submitted": str(submitted), "sources": [str(p) for p in sources], "assignment": assignment,
+           "memory_bytes": caps.memory_bytes, "cpu_seconds": cpu, "max_code_bytes": caps.max_code_bytes}
+    # One BLAS thread: the pass does no linear algebra, and each thread would reserve address space.
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    child = subprocess.Popen([sys.executable, "-m", "grader.report.collusion"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, env=env)
+    try:
+        out, err = child.communicate(json.dumps(job).encode(), timeout=wall)
+    except subprocess.TimeoutExpired:
+        child.kill()
+        child.communicate()
+        return CollusionEvidence(missing=f"the collusion pass took longer than its wall-clock cap of {wall:.0f} s and was stopped")
+    code = child.returncode
+    if code == 0:
+        found = json.loads(out)
+        return CollusionEvidence(pairs=found["pairs"], cuts=found["cuts"], cpu_seconds=found["cpu_seconds"],
+                                 peak_rss_bytes=found["peak_rss_bytes"])
+    if code == _OUT_OF_MEMORY:
+        why = f"needed more than its memory cap ({caps.memory_bytes / 2**30:g} GiB of address space)"
+    elif code in (-signal.SIGXCPU, -signal.SIGKILL):
+        why = f"ran past its CPU cap ({cpu} CPU-s for this class)" if code == -signal.SIGXCPU else "was killed (SIGKILL)"
+    elif code < 0:
+        why = f"was killed by signal {signal.Signals(-code).name}"
+    else:
+        last = err.decode("utf-8", "replace").strip().splitlines()[-1:] or ["no message"]
+        # the message may quote a submission's path: nothing unprintable reaches the TA's terminal
+        why = f"failed (exit status {code}: {''.join(ch if ch.isprintable() else '?' for ch in last[0][:300])})"
+    return CollusionEvidence(missing=f"the collusion pass {why}")
+
+
+def _child(job: dict) -> dict:
+    """The child's work: limits first, then ``class_collusion``; what it cost goes with the evidence."""
+    import resource
+
+    from grader.sandbox.limits import status_bytes
+
+    now = status_bytes(os.getpid(), "VmSize") or 0
+    resource.setrlimit(resource.RLIMIT_AS, (now + job["memory_bytes"],) * 2)
+    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+    # SIGXCPU at the budget; SIGKILL a few seconds later if it were caught
+    resource.setrlimit(resource.RLIMIT_CPU, (job["cpu_seconds"], job["cpu_seconds"] + 5))
+    evidence = class_collusion(job["results"], Path(job["submitted"]), [Path(p) for p in job["sources"]], job["assignment"],
+                               job["max_code_bytes"])
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return asdict(evidence) | {"cpu_seconds": round(usage.ru_utime + usage.ru_stime, 3),
+                               "peak_rss_bytes": status_bytes(os.getpid(), "VmHWM")}
+
+
+def _main() -> int:
+    job = json.loads(sys.stdin.buffer.read())
+    real_stdout, sys.stdout = sys.stdout, sys.stderr  # only the answer goes to stdout
+    try:
+        answer = json.dumps(_child(job))
+    except MemoryError:
+        return _OUT_OF_MEMORY
+    real_stdout.write(answer)
+    real_stdout.flush()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(_main())

@@ -40,7 +40,7 @@ def test_a_copy_with_renamed_variables_ranks_first_among_the_corpus(source_noteb
 
 def test_identical_wrong_outputs_on_a_hidden_case_are_evidence(graded_class):
     paths, submitted, out, results = graded_class
-    pairs = class_collusion(results, submitted, paths.source_notebooks(ASSIGNMENT), ASSIGNMENT)
+    pairs = class_collusion(results, submitted, paths.source_notebooks(ASSIGNMENT), ASSIGNMENT).pairs
     top = pairs[0]
     assert (top["a"], top["b"], top["notebook"]) == ("bob", "carl", NOTEBOOK)
     assert top["similarity"] > 0.8 and len(top["shared_wrong"]) >= 3
@@ -50,8 +50,9 @@ def test_identical_wrong_outputs_on_a_hidden_case_are_evidence(graded_class):
 
 def test_the_report_shows_pairs_side_by_side(graded_class):
     paths, submitted, out, results = graded_class
-    pairs = class_collusion(results, submitted, paths.source_notebooks(ASSIGNMENT), ASSIGNMENT)
-    html = write_class_report(out, collusion=pairs).read_text()
+    evidence = class_collusion(results, submitted, paths.source_notebooks(ASSIGNMENT), ASSIGNMENT)
+    html = write_class_report(out, collusion=evidence).read_text()
     section = html[html.index('id="collusion"'):]
     assert "bob and carl: 02_sign_correction" in section
-    assert section.count("<pre>") == 2 * len(pairs)
+    assert section.count("<pre>") == 2 * len(evidence.pairs) > 0
+    assert evidence.cuts == [] and "was cut at" not in section
