@@ -12,9 +12,9 @@ same edge in the deformed mesh ``U``.
 
 import types
 
+import cholespy
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from reference.sign_correction import optimal_rotation
 from starter.validation import (
@@ -190,6 +190,42 @@ def arap_energy(V, U, F, C, R):
     return energy
 
 
+class SparseCholesky:
+    """Sparse Cholesky factor of a symmetric positive definite matrix, for repeated solves.
+
+    CHOLMOD's supernodal factorization through ``cholespy``. Chosen on
+    measurement (``benchmarks/bench_arap.py``, 50k-vertex bar, three right-hand
+    sides, a busy 2-core machine): its two triangular solves took ~1.6 ms of
+    CPU against ~4.3 ms for
+    SuperLU's (``scipy.sparse.linalg.splu`` in minimum-degree order) and ~9 ms
+    for ``sksparse_minimal``'s.
+
+    Parameters
+    ----------
+    A : (m, m) scipy.sparse matrix
+        Symmetric positive definite; only its lower triangle is read.
+    """
+
+    def __init__(self, A):
+        lower = sp.tril(A, format="coo")
+        self.shape = A.shape
+        self._factor = cholespy.CholeskySolverD(
+            A.shape[0], lower.row.astype(np.int32), lower.col.astype(np.int32),
+            lower.data.astype(np.float64), cholespy.MatrixType.COO,
+        )
+
+    def solve(self, b):
+        """``A⁻¹ b`` for ``b`` of shape ``(m,)`` or ``(m, k)``; a new array."""
+        b = np.ascontiguousarray(b, dtype=np.float64)
+        x = np.empty_like(b)
+        self._factor.solve(b, x)
+        return x
+
+    def solve_into(self, b, x):
+        """Write ``A⁻¹ b`` into ``x``; both C-contiguous float64 of shape ``(m,)`` or ``(m, k)``."""
+        self._factor.solve(b, x)
+
+
 def arap_precompute(V, F, handles):
     """Everything the ARAP iterations reuse, factorization included.
 
@@ -208,14 +244,16 @@ def arap_precompute(V, F, handles):
     data : types.SimpleNamespace
         ``V``, ``F``, ``C`` (``cotangent_weights``), ``L``
         (``cotangent_laplacian``), ``handles``, ``free`` (the other vertices,
-        ascending); ``solver``, the sparse LU factors of ``-L[free][:, free]``
-        (symmetric positive definite), or ``None`` when every vertex is a
-        handle; ``L_free_handles = L[free][:, handles]``;
+        ascending); ``solver``, the ``SparseCholesky`` factor of
+        ``-L[free][:, free]`` (symmetric positive definite), or ``None`` when
+        every vertex is a handle; ``L_free_handles = L[free][:, handles]``;
         ``covariance_operator``, ``(n d, n)`` sparse with
         ``(covariance_operator @ U).reshape(n, d, d) = arap_covariances(V, U, F, C)``;
         ``rhs_operator``, ``(len(free), d n)`` sparse, so that the global
         step's right-hand side is ``rhs_operator @ R.transpose(0, 2, 1).reshape(n d, d)``;
-        ``rest_dirichlet = Σ_t Σ_k C[t, k] ‖e_tk‖²``.
+        ``rest_dirichlet = Σ_t Σ_k C[t, k] ‖e_tk‖²``;
+        ``covariance_free_first``, ``covariance_operator`` for the rows of
+        ``U`` in the order ``[free, handles]``; ``L_handles = L[handles][:, handles]``.
 
     Notes
     -----
@@ -245,14 +283,7 @@ def arap_precompute(V, F, handles):
     is_free[handles] = False
     free = np.flatnonzero(is_free)
     L_free = L[free]
-    solver = None
-    if free.size:
-        # -L_ff is symmetric positive definite: no pivoting, and a minimum degree
-        # ordering of A + Aᵀ (on a 50k-vertex bar 2.5x less fill than the default)
-        solver = spla.splu(
-            -L_free[:, free].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        )
+    solver = SparseCholesky(-L_free[:, free]) if free.size else None
     E = V[np.roll(F, -1, axis=1)] - V[np.roll(F, -2, axis=1)]
     weighted = C[:, :, None] * E
     P = np.roll(weighted, 1, axis=1) - np.roll(weighted, -1, axis=1)
@@ -269,6 +300,9 @@ def arap_precompute(V, F, handles):
         covariance_operator=G.tocsc(),
         rhs_operator=(G[:, free].T / 3.0).tocsc(),
         rest_dirichlet=float(np.sum(C * np.einsum("tka,tka->tk", E, E))),
+        # arap_solve iterates on the rows [free, handles]: the solve writes the free block in place
+        covariance_free_first=G[:, np.concatenate([free, handles])].tocsc(),
+        L_handles=L[handles][:, handles].tocsr(),
     )
 
 
@@ -336,9 +370,11 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
     The local step uses ``data.covariance_operator`` instead of
     ``arap_covariances`` (same matrices, one sparse product). The energy uses
     ``E = 3 (Σ C ‖e'‖² + Σ C ‖e‖²) - 2 Σ_i tr(R_i S_i(U))`` with
-    ``Σ C ‖e'‖² = -tr(Uᵀ L U)``, and ``S(U_k)`` is the next local step's input;
-    it agrees with ``arap_energy`` up to rounding relative to the Dirichlet
-    energies (``~1e-15`` of ``3 Σ C (‖e'‖² + ‖e‖²)``).
+    ``Σ C ‖e'‖² = -tr(Uᵀ L U)``, and ``S(U_k)`` is the next local step's input.
+    ``-tr(Uᵀ L U)`` comes from the global step's own system
+    ``-L_ff U_f = b_R + L_fh U_h``: it is ``tr(U_fᵀ (b_R - L_fh U_h)) - tr(U_hᵀ L_hh U_h)``.
+    The energy agrees with ``arap_energy`` up to rounding relative to the
+    Dirichlet energies (``~1e-15`` of ``3 Σ C (‖e'‖² + ‖e‖²)``).
     """
     if not isinstance(data, types.SimpleNamespace) or not hasattr(data, "rhs_operator"):
         raise ValueError(f"data must be the result of arap_precompute(V, F, handles), got {type(data).__name__}")
@@ -353,14 +389,29 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
         if U.shape != (n, d):
             raise ValueError(f"U0 must have the shape of V, {(n, d)}, got {U.shape}")
     U[data.handles] = handle_positions
-    S = (data.covariance_operator @ U).reshape(n, d, d)
     energies = np.empty(int(iterations))
+    if iterations == 0:
+        return U, energies
+    S = (data.covariance_operator @ U).reshape(n, d, d)
+    # U_p = U[[free, handles]]: the solve writes U_p's free block, a contiguous view, in place
+    m = data.free.size
+    U_p = np.empty((n, d))
+    U_p[m:] = handle_positions
+    handle_rhs = data.L_free_handles @ handle_positions
+    handle_dirichlet = np.einsum("ij,ij->", handle_positions, data.L_handles @ handle_positions)
     for k in range(int(iterations)):
         R = optimal_rotation(S)
-        U = arap_global_step(data, R, handle_positions)
-        S = (data.covariance_operator @ U).reshape(n, d, d)
-        dirichlet = -np.einsum("ij,ij->", U, data.L @ U)
-        energies[k] = 3.0 * (dirichlet + data.rest_dirichlet) - 2.0 * np.einsum("kij,kji->", R, S)
+        Rt = R.transpose(0, 2, 1).reshape(n * d, d)
+        rotation_rhs = data.rhs_operator @ Rt
+        if m:
+            data.solver.solve_into(rotation_rhs + handle_rhs, U_p[:m])
+        S = (data.covariance_free_first @ U_p).reshape(n, d, d)
+        # -Uᵀ L U from the solve's -L_ff U_f = rotation_rhs + L_fh U_h (einsum, not
+        # BLAS's dot: OpenBLAS's threads would spin on the other core)
+        dirichlet = np.einsum("ij,ij->", U_p[:m], rotation_rhs - handle_rhs) - handle_dirichlet
+        # Σ_i tr(R_i S_i) = Σ_i Σ_ab (R_iᵀ)_ba (S_i)_ba
+        energies[k] = 3.0 * (dirichlet + data.rest_dirichlet) - 2.0 * np.einsum("i,i->", Rt.ravel(), S.ravel())
+    U[data.free] = U_p[:m]
     return U, energies
 
 
