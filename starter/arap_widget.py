@@ -305,9 +305,13 @@ class ArapWidget(widgets.VBox):
     measured over the last frames; at least one, at most ``max_iterations``),
     then computes the ARAP energy of the result, renders it into
     :attr:`image` and updates :attr:`label`. While the handles stay put,
-    frames go on until the energy decreases by less than ``settle_tol`` of
-    itself in a frame: every local-global iteration lowers the energy, so
-    the shape settles into the ARAP minimum for the handles where they are.
+    frames go on, and once they have not moved for ``settle_after`` seconds
+    (the drag has ended, not just paused between two mouse events) each frame
+    runs twice the iterations of the one before (up to ``max_iterations``:
+    nobody waits for the next frame), until the energy decreases by
+    less than ``settle_tol`` of itself in a frame: every local-global
+    iteration lowers the energy, so the shape settles into the ARAP minimum
+    for the handles where they are.
 
     Parameters
     ----------
@@ -328,7 +332,11 @@ class ArapWidget(widgets.VBox):
         Most local-global iterations in one frame.
     settle_tol : float
         Frames at still handles stop once the energy falls by less than this
-        fraction in a frame.
+        fraction in a frame (or by less than its rounding, ``1e-12`` of the
+        rest shape's ``3 Σ C ‖e‖²``).
+    settle_after : float
+        Seconds without a handle move after which frames settle with growing
+        iteration counts.
     history : int
         Number of recent frames the rates and the budget average over.
     live : bool
@@ -354,7 +362,9 @@ class ArapWidget(widgets.VBox):
     frames : collections.deque of dict
         The last ``history`` frames: ``frame`` (a counter), ``moved`` (the
         handle targets differ from the previous frame's), ``iterations``,
-        ``energy``, ``solve_s``, ``total_s`` (solve, energy, picture and PNG).
+        ``energy``, ``solve_s``, ``total_s`` (solve, energy, picture and PNG,
+        wall clock) and ``cpu_s`` (the process's CPU time over the frame,
+        every thread: the renderer's included).
     mouse : ipyevents.Event
         The picture's mouse events, throttled to one move per 15 ms.
     pick_radius : float
@@ -363,7 +373,7 @@ class ArapWidget(widgets.VBox):
     """
 
     def __init__(self, V, F, handle_sets, names=None, size=(560, 360), target_fps=30.0, max_iterations=20,
-                 settle_tol=1e-6, history=30, live=True, **view):
+                 settle_tol=1e-5, settle_after=0.3, history=30, live=True, **view):
         V = as_points(V, "V", dims=(3,))
         F = as_faces(F, len(V))
         self.handle_sets = _handle_sets(handle_sets, len(V))
@@ -381,6 +391,9 @@ class ArapWidget(widgets.VBox):
         self.settle_tol = float(as_float_array(settle_tol, "settle_tol", ndim=0))
         if not self.settle_tol >= 0:
             raise ValueError(f"settle_tol must be non-negative, got {self.settle_tol}")
+        self.settle_after = float(as_float_array(settle_after, "settle_after", ndim=0))
+        if not self.settle_after >= 0:
+            raise ValueError(f"settle_after must be non-negative, got {self.settle_after}")
         if not isinstance(history, (int, np.integer)) or history < 1:
             raise ValueError(f"history must be a positive integer, got {history!r}")
         self.V, self.F = V, F
@@ -399,6 +412,8 @@ class ArapWidget(widgets.VBox):
         self.energy = 0.0
         self.frames = deque(maxlen=int(history))
         self._count = 0
+        self._still = 0  # settling frames so far
+        self._moved_at = -np.inf
         self._shown_offsets = self.offsets.copy()
         self._settled = True
         self._version = self._drawn = 0
@@ -503,7 +518,13 @@ class ArapWidget(widgets.VBox):
             offsets = np.array(offsets, dtype=np.float64)
             moved = not np.array_equal(offsets, self._shown_offsets)
             iterations = self._budget()
-            started = time.perf_counter()
+            if not moved and time.monotonic() - self._moved_at >= self.settle_after:
+                # the drag has ended and nobody waits for the next frame: double the iterations each frame
+                iterations = max(iterations, min(self.max_iterations, 2 ** self._still))
+                self._still += 1
+            else:
+                self._still = 0
+            started, cpu = time.perf_counter(), time.process_time()
             self._arap.max_iter = iterations
             U = igl.arap_solve(self.targets(offsets), self._arap, self.U)
             solved = time.perf_counter()
@@ -511,17 +532,19 @@ class ArapWidget(widgets.VBox):
             previous = self.energy
             self.U, self.energy, self._shown_offsets = U, energy, offsets
             self._count += 1
-            self._draw(iterations, solved - started, started, moved)
+            self._draw(iterations, solved - started, started, moved, cpu)
             record = self.frames[-1]
-            self._settled = not moved and previous - energy <= self.settle_tol * energy
+            # settled: the energy fell by less than settle_tol of itself, or to rounding (near the rest shape)
+            self._settled = not moved and previous - energy <= self.settle_tol * energy + 1e-12 * self._rest_term
             return record
 
-    def _draw(self, iterations, solve_s, started, moved):
+    def _draw(self, iterations, solve_s, started, moved, cpu=0.0):
         png = self.renderer.png(self.U)
         self.image.value = png
         if iterations:
             self.frames.append({"frame": self._count, "moved": moved, "iterations": iterations, "energy": self.energy,
-                                "solve_s": solve_s, "total_s": time.perf_counter() - started})
+                                "solve_s": solve_s, "total_s": time.perf_counter() - started,
+                                "cpu_s": time.process_time() - cpu})
         rates = self.frame_rates()
         self.label.value = (
             f"frame {self._count} ({'handles moved' if moved else 'handles still'}) · ARAP energy {self.energy:.9g} · "
@@ -545,15 +568,17 @@ class ArapWidget(widgets.VBox):
         -------
         dict
             ``frames_per_second`` (whole frames: solve, energy, picture, PNG),
-            ``solve_frames_per_second`` (``igl.arap_solve`` alone) and
+            ``solve_frames_per_second`` (``igl.arap_solve`` alone),
+            ``frames_per_cpu_second`` (whole frames per second of the
+            process's CPU time: what a machine with a core to spare gets) and
             ``iterations_per_frame``; zeros before the first frame.
         """
+        keys = ("frames_per_second", "solve_frames_per_second", "frames_per_cpu_second", "iterations_per_frame")
         if not self.frames:
-            return {"frames_per_second": 0.0, "solve_frames_per_second": 0.0, "iterations_per_frame": 0.0}
-        mean = {k: float(np.mean([f[k] for f in self.frames])) for k in ("total_s", "solve_s", "iterations")}
-        return {"frames_per_second": 1.0 / max(mean["total_s"], 1e-9),
-                "solve_frames_per_second": 1.0 / max(mean["solve_s"], 1e-9),
-                "iterations_per_frame": mean["iterations"]}
+            return dict.fromkeys(keys, 0.0)
+        mean = {k: float(np.mean([f[k] for f in self.frames])) for k in ("total_s", "solve_s", "cpu_s", "iterations")}
+        return dict(zip(keys, (1.0 / max(mean["total_s"], 1e-9), 1.0 / max(mean["solve_s"], 1e-9),
+                               1.0 / max(mean["cpu_s"], 1e-9), mean["iterations"])))
 
     # ------------------------------------------------------------ the frame thread
 
@@ -587,6 +612,7 @@ class ArapWidget(widgets.VBox):
             raise ValueError(f"j must be a handle index in [0, {len(self.handle_sets)}), got {j}")
         with self._wake:
             self.offsets[int(j)] = offset
+            self._moved_at = time.monotonic()
             self._version += 1
             self._settled = False
             self._wake.notify()

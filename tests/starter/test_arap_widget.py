@@ -111,16 +111,18 @@ def test_at_still_handles_the_energy_never_rises_and_the_frames_settle(widget, b
     assert widget.energy == pytest.approx(reference_energy(V, F, widget.U), rel=1e-9)
 
 
-def test_the_iteration_budget_fills_the_frame_rate_target(widget):
+def test_the_iteration_budget_fills_the_frame_rate_target_while_the_handles_move(widget):
     widget.move_handle(1, [0.0, 0.3, 0.0])
     widget.step()
     assert widget.frames[-1]["iterations"] == 1  # nothing measured yet
     # a frame rate target far below what the machine does: the budget grows to the cap
     widget.target_fps = 1e-3
+    widget.move_handle(1, [0.0, 0.4, 0.0])
     widget.step()
     assert widget.frames[-1]["iterations"] == widget.max_iterations
     # one far above it: still one iteration a frame, never none
     widget.target_fps = 1e6
+    widget.move_handle(1, [0.0, 0.5, 0.0])
     widget.step()
     assert widget.frames[-1]["iterations"] == 1
     # in between: the iterations that fit in the measured frame
@@ -129,6 +131,18 @@ def test_the_iteration_budget_fills_the_frame_rate_target(widget):
     rest = np.mean([f["total_s"] - f["solve_s"] for f in frames])
     widget.target_fps = 1.0 / (rest + 5.5 * iteration)
     assert widget._budget() == 5
+
+
+def test_once_the_drag_has_ended_each_frame_doubles_the_iterations_up_to_the_cap(widget):
+    widget.target_fps = 1e6  # a budget of one iteration
+    widget.max_iterations = 6
+    widget.settle_after = 3600.0  # a drag paused between two mouse events: the frame rate still counts
+    widget.move_handle(1, [0.0, 0.5, 0.5])
+    assert [widget.step()["iterations"] for _ in range(4)] == [1, 1, 1, 1]
+    widget.settle_after = 0.0  # the drag has ended
+    assert [widget.step()["iterations"] for _ in range(5)] == [1, 2, 4, 6, 6]
+    widget.move_handle(1, [0.0, 0.6, 0.5])
+    assert widget.step()["iterations"] == 1
 
 
 def test_dragging_a_handle_moves_it_in_the_view_plane_with_the_mouse(widget, bar):
@@ -248,6 +262,7 @@ def test_bad_calls_are_refused_naming_the_argument(bar, tmp_path, call, message)
     ({"target_fps": 0}, "target_fps must be positive"),
     ({"max_iterations": 0}, "max_iterations must be a positive integer"),
     ({"history": 0}, "history must be a positive integer"),
+    ({"settle_after": -1}, "settle_after must be non-negative"),
     ({"view": (0, 0, 1), "up": (0, 0, 2)}, "must be non-zero and not parallel"),
 ])
 def test_bad_widget_arguments_are_refused_naming_the_argument(bar, change, message):
