@@ -10,7 +10,8 @@ vertices) with the demo's three handles:
   ``tests/browser/test_arap_demo.py`` does. Figures: the pictures the page
   displayed per second of dragging, the widget's own rate of whole frames
   (warm-started ``igl.arap_solve``, energy, picture, PNG) and its iterations
-  per frame, both read from the label it showed last while dragging;
+  per frame, both read from the label it showed last while dragging, and the
+  frames per second of the kernel process's CPU time over the drag;
 - **in-process**: the same widget without a browser, ``FRAMES`` frames each
   for a new position of the right end (one frame per mouse move), wall clock
   and per second of the process's CPU time, with the split between the
@@ -81,7 +82,7 @@ def in_chromium(drag_s=DRAG_S):
 
         from tests.browser.conftest import CHROMIUM, FLAGS
         from tests.browser.test_arap_demo import DEMO, drag_and_record, right_end_pixel, serve_demo
-        from tests.browser.test_jupyterlab import errors, run_all_cells
+        from tests.browser.test_jupyterlab import errors, idle_kernel, run_all_cells
     except BaseException as exc:  # pytest.skip at import time is a BaseException
         return {"chromium": f"not measured: {type(exc).__name__}: {exc}"}
     with tempfile.TemporaryDirectory(prefix="bench-arap-demo-") as tmp, serve_demo(Path(tmp)) as lab, \
@@ -95,21 +96,35 @@ def in_chromium(drag_s=DRAG_S):
             if errors(nb):
                 return {"chromium": f"not measured: the demo failed: {errors(nb)}"}
             moves = int(60 * drag_s)
-            seen = drag_and_record(page, circle(right_end_pixel(), 60.0, moves), seconds=drag_s)
+            kernel = kernel_process(idle_kernel(lab, f"{DEMO}.ipynb"))
+            seen = drag_and_record(page, circle(right_end_pixel(), 60.0, moves), seconds=drag_s,
+                                   mark=lambda: sum(kernel.cpu_times()[:2]) if kernel else None)
         finally:
             context.close()
     pressed, released = seen["drag_ms"]
     shown = [t for t in seen["sources"] if pressed <= t <= released]
     during = [f for f in seen["frames"] if pressed <= f[0] <= released]
     still = [(a, b) for a, b in zip(seen["frames"], seen["frames"][1:]) if not b[2] and b[1] == a[1] + 1]
+    cpu = seen["marks"][1] - seen["marks"][0] if None not in seen["marks"] else float("nan")
     return {
         "chromium pictures shown/s while dragging": len(shown) / ((released - pressed) / 1000),
+        "chromium widget frames per kernel CPU-second while dragging": len(during) / cpu if cpu > 0 else float("nan"),
         "chromium widget frames/s (solve + energy + render)": during[-1][5] if during else float("nan"),
         "chromium widget iterations/frame": during[-1][4] if during else float("nan"),
         "chromium frames while dragging": len(during),
         "chromium frames at still handles": len(still),
         "chromium energy rises at still handles": sum(b[3] > a[3] * (1 + 1e-8) for a, b in still),
     }
+
+
+def kernel_process(kernel_id):
+    """The kernel's process (its command line names its connection file ``kernel-<id>.json``), or ``None``."""
+    import psutil
+
+    for process in psutil.process_iter(["cmdline"]):
+        if any(f"kernel-{kernel_id}.json" in part for part in process.info["cmdline"] or ()):
+            return process
+    return None
 
 
 def main(drag_s=DRAG_S, frames=FRAMES):

@@ -92,7 +92,7 @@ def parse(labels) -> list[tuple]:
     return rows
 
 
-def drag_and_record(page, path_pixels, seconds: float, settle_s: float = 60.0) -> dict:
+def drag_and_record(page, path_pixels, seconds: float, settle_s: float = 60.0, mark=None) -> dict:
     """Press on the first pixel of ``path_pixels``, move through the rest in ``seconds``, release, wait for
     the frames to settle; what the page saw.
 
@@ -100,8 +100,10 @@ def drag_and_record(page, path_pixels, seconds: float, settle_s: float = 60.0) -
     -------
     dict
         ``drag_ms`` (page clock at the press and at the release), ``sources`` (page times of every new
-        picture), ``frames`` (:func:`parse` of every label).
+        picture), ``frames`` (:func:`parse` of every label), ``marks`` (what ``mark()`` returned at the
+        press and at the release, e.g. a process's CPU times).
     """
+    mark = mark or (lambda: None)
     image, label = widget_parts(page)
     image.scroll_into_view_if_needed()
     box = image.bounding_box()
@@ -110,13 +112,14 @@ def drag_and_record(page, path_pixels, seconds: float, settle_s: float = 60.0) -
     page.evaluate(RECORD, [image.element_handle(), label.element_handle()])
     page.mouse.move(*at[0])
     page.mouse.down()
-    pressed = page.evaluate("performance.now()")
+    pressed, marks = page.evaluate("performance.now()"), [mark()]
     pause = max(1, int(1000 * seconds / max(1, len(at) - 1)))
     for point in at[1:]:
         page.mouse.move(*point)
         page.wait_for_timeout(pause)
     page.mouse.up()
     released = page.evaluate("performance.now()")
+    marks.append(mark())
     # Settled: the label reads "handles still" and no new label came for two seconds.
     quiet, last = 0, -1
     for _ in range(int(settle_s * 10)):
@@ -127,7 +130,7 @@ def drag_and_record(page, path_pixels, seconds: float, settle_s: float = 60.0) -
         if quiet >= 20 and "handles still" in label.inner_text():
             break
     seen = page.evaluate("window.__arap")
-    return {"drag_ms": (pressed, released), "sources": seen["sources"], "frames": parse(seen["labels"])}
+    return {"drag_ms": (pressed, released), "sources": seen["sources"], "frames": parse(seen["labels"]), "marks": marks}
 
 
 @pytest.fixture(scope="module")
