@@ -291,3 +291,37 @@ def test_any_drag_of_the_right_end_lowers_the_energy_frame_by_frame_once_still(b
         assert np.all(np.diff(energies) <= 1e-12 * (energies[0] + w._rest_term))
     finally:
         w.close()
+
+
+def test_the_student_bundle_ships_the_arap_demo_and_its_widget_without_reference_code(tmp_path):
+    import ast
+    import zipfile
+    from pathlib import Path
+
+    import jupytext
+    import nbformat
+
+    from grader.build.release import scan_for_leaks, write_bundle
+    from grader.paths import CoursePaths
+
+    root = Path(__file__).resolve().parents[2]
+    for name in ("notebooks", "starter", "data"):
+        (tmp_path / name).symlink_to(root / name)
+    paths = CoursePaths(tmp_path)
+    (paths.release / "deformation").mkdir(parents=True)
+    with zipfile.ZipFile(write_bundle(paths, "deformation")) as z:
+        nb = nbformat.reads(z.read("deformation/demo_arap.ipynb").decode(), as_version=4)
+        widget = z.read("deformation/starter/arap_widget.py").decode()
+        assert "deformation/data/bar_fine.npz" in z.namelist()
+    authored = jupytext.read(root / "notebooks" / "demo_arap" / "demo_arap.py")
+    assert [(c.cell_type, c.source) for c in nb.cells] == [(c.cell_type, c.source) for c in authored.cells]
+    assert all(not c.get("outputs") for c in nb.cells)
+    imported = set()
+    for source in [widget] + [c.source for c in nb.cells if c.cell_type == "code"]:
+        for node in ast.walk(ast.parse(source)):
+            if isinstance(node, ast.ImportFrom):
+                imported.add(node.module.split(".")[0])
+            elif isinstance(node, ast.Import):
+                imported.update(a.name.split(".")[0] for a in node.names)
+    assert not imported & {"reference", "grader"}, imported
+    assert scan_for_leaks({"demo_arap.ipynb": nbformat.writes(nb), "starter/arap_widget.py": widget}) == []
