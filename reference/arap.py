@@ -196,9 +196,8 @@ class SparseCholesky:
     CHOLMOD's supernodal factorization through ``cholespy``. Chosen on
     measurement (``benchmarks/bench_arap.py``, 50k-vertex bar, three right-hand
     sides, a busy 2-core machine): its two triangular solves took ~1.6 ms of
-    CPU against ~4.3 ms for
-    SuperLU's (``scipy.sparse.linalg.splu`` in minimum-degree order) and ~9 ms
-    for ``sksparse_minimal``'s.
+    CPU against ~4.3 ms for SuperLU's (``scipy.sparse.linalg.splu`` in
+    minimum-degree order) and ~9 ms for ``sksparse_minimal``'s.
 
     Parameters
     ----------
@@ -252,8 +251,13 @@ def arap_precompute(V, F, handles):
         ``rhs_operator``, ``(len(free), d n)`` sparse, so that the global
         step's right-hand side is ``rhs_operator @ R.transpose(0, 2, 1).reshape(n d, d)``;
         ``rest_dirichlet = Σ_t Σ_k C[t, k] ‖e_tk‖²``;
-        ``covariance_free_first``, ``covariance_operator`` for the rows of
-        ``U`` in the order ``[free, handles]``; ``L_handles = L[handles][:, handles]``.
+        ``L_handles = L[handles][:, handles]``; ``moving_cells``, the vertices
+        with a free vertex in a triangle around them; ``covariance_moving``,
+        the rows of ``covariance_operator`` of the moving cells and its columns
+        in the order ``[free, handles]``; ``rhs_moving``, the columns of
+        ``rhs_operator`` of the moving cells (the others are zero);
+        ``covariance_still``, the rows of the other cells and the handles'
+        columns (the others are zero).
 
     Notes
     -----
@@ -300,10 +304,34 @@ def arap_precompute(V, F, handles):
         covariance_operator=G.tocsc(),
         rhs_operator=(G[:, free].T / 3.0).tocsc(),
         rest_dirichlet=float(np.sum(C * np.einsum("tka,tka->tk", E, E))),
-        # arap_solve iterates on the rows [free, handles]: the solve writes the free block in place
-        covariance_free_first=G[:, np.concatenate([free, handles])].tocsc(),
         L_handles=L[handles][:, handles].tocsr(),
+        **_moving_cells(G, F, free, handles, d),
     )
+
+
+def _moving_cells(G, F, free, handles, d):
+    """What ``arap_solve`` iterates on: the cells with a free vertex in their one-ring, columns [free, handles].
+
+    A cell whose triangles hold only handles (inside a handle region) keeps its
+    covariance, rotation and energy term through a solve, and its rotation
+    enters no free vertex's right-hand side (its rows of ``G`` vanish on the
+    free columns): it is fitted once per solve, not once per iteration.
+    """
+    n = G.shape[1]
+    moving = np.zeros(n, dtype=bool)
+    is_free = np.zeros(n, dtype=bool)
+    is_free[free] = True
+    moving[F[is_free[F].any(axis=1)].ravel()] = True
+    rows = lambda cells: (d * cells[:, None] + np.arange(d)).ravel()  # noqa: E731
+    cells, still = np.flatnonzero(moving), np.flatnonzero(~moving)
+    G_cells = G[rows(cells)]
+    return {
+        "moving_cells": cells,
+        # rows [free, handles]: the solve writes the free block of the iterate in place
+        "covariance_moving": G_cells[:, np.concatenate([free, handles])].tocsc(),
+        "rhs_moving": (G_cells[:, free].T / 3.0).tocsc(),
+        "covariance_still": G[rows(still)][:, handles].tocsr(),
+    }
 
 
 def arap_global_step(data, R, handle_positions):
@@ -392,25 +420,31 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
     energies = np.empty(int(iterations))
     if iterations == 0:
         return U, energies
-    S = (data.covariance_operator @ U).reshape(n, d, d)
     # U_p = U[[free, handles]]: the solve writes U_p's free block, a contiguous view, in place
-    m = data.free.size
-    U_p = np.empty((n, d))
-    U_p[m:] = handle_positions
+    m, cells = data.free.size, data.moving_cells.size
+    U_p = np.concatenate([U[data.free], handle_positions])
     handle_rhs = data.L_free_handles @ handle_positions
     handle_dirichlet = np.einsum("ij,ij->", handle_positions, data.L_handles @ handle_positions)
+    # the cells inside handle regions: one fit per solve (their covariances do not change)
+    S_still = (data.covariance_still @ handle_positions).reshape(-1, d, d)
+    still_fit = np.einsum("kij,kji->", optimal_rotation(S_still), S_still) if len(S_still) else 0.0
+    S = (data.covariance_moving @ U_p).reshape(cells, d, d)
     for k in range(int(iterations)):
-        R = optimal_rotation(S)
-        Rt = R.transpose(0, 2, 1).reshape(n * d, d)
-        rotation_rhs = data.rhs_operator @ Rt
+        if cells:
+            R = optimal_rotation(S)
+            Rt = R.transpose(0, 2, 1).reshape(cells * d, d)
+            rotation_rhs = data.rhs_moving @ Rt
+        else:
+            Rt, rotation_rhs = np.empty((0, d)), np.zeros((m, d))
         if m:
             data.solver.solve_into(rotation_rhs + handle_rhs, U_p[:m])
-        S = (data.covariance_free_first @ U_p).reshape(n, d, d)
+        S = (data.covariance_moving @ U_p).reshape(cells, d, d)
         # -Uᵀ L U from the solve's -L_ff U_f = rotation_rhs + L_fh U_h (einsum, not
         # BLAS's dot: OpenBLAS's threads would spin on the other core)
         dirichlet = np.einsum("ij,ij->", U_p[:m], rotation_rhs - handle_rhs) - handle_dirichlet
         # Σ_i tr(R_i S_i) = Σ_i Σ_ab (R_iᵀ)_ba (S_i)_ba
-        energies[k] = 3.0 * (dirichlet + data.rest_dirichlet) - 2.0 * np.einsum("i,i->", Rt.ravel(), S.ravel())
+        fit = np.einsum("i,i->", Rt.ravel(), S.ravel()) + still_fit
+        energies[k] = 3.0 * (dirichlet + data.rest_dirichlet) - 2.0 * fit
     U[data.free] = U_p[:m]
     return U, energies
 
