@@ -309,9 +309,11 @@ class ArapWidget(widgets.VBox):
     (the drag has ended, not just paused between two mouse events) each frame
     runs twice the iterations of the one before (up to ``max_iterations``:
     nobody waits for the next frame), until the energy decreases by
-    less than ``settle_tol`` of itself in a frame: every local-global
-    iteration lowers the energy, so the shape settles into the ARAP minimum
-    for the handles where they are.
+    less than ``settle_tol`` of itself in a frame or ``settle_iterations``
+    have run since the handles stopped: every local-global iteration lowers
+    the energy, so the shape settles towards the ARAP minimum for the handles
+    where they are (ARAP converges slowly on large bends; the cap keeps an
+    idle widget from computing for long after the eye sees no change).
 
     Parameters
     ----------
@@ -334,6 +336,8 @@ class ArapWidget(widgets.VBox):
         Frames at still handles stop once the energy falls by less than this
         fraction in a frame (or by less than its rounding, ``1e-12`` of the
         rest shape's ``3 Σ C ‖e‖²``).
+    settle_iterations : int
+        Most iterations at still handles before frames stop.
     settle_after : float
         Seconds without a handle move after which frames settle with growing
         iteration counts.
@@ -373,7 +377,8 @@ class ArapWidget(widgets.VBox):
     """
 
     def __init__(self, V, F, handle_sets, names=None, size=(560, 360), target_fps=30.0, max_iterations=20,
-                 settle_tol=1e-5, settle_after=0.3, history=30, live=True, **view):
+                 settle_tol=1e-4, settle_iterations=300, settle_after=0.3, history=30, live=True,
+                 **view):
         V = as_points(V, "V", dims=(3,))
         F = as_faces(F, len(V))
         self.handle_sets = _handle_sets(handle_sets, len(V))
@@ -391,6 +396,9 @@ class ArapWidget(widgets.VBox):
         self.settle_tol = float(as_float_array(settle_tol, "settle_tol", ndim=0))
         if not self.settle_tol >= 0:
             raise ValueError(f"settle_tol must be non-negative, got {self.settle_tol}")
+        if not isinstance(settle_iterations, (int, np.integer)) or settle_iterations < 1:
+            raise ValueError(f"settle_iterations must be a positive integer, got {settle_iterations!r}")
+        self.settle_iterations = int(settle_iterations)
         self.settle_after = float(as_float_array(settle_after, "settle_after", ndim=0))
         if not self.settle_after >= 0:
             raise ValueError(f"settle_after must be non-negative, got {self.settle_after}")
@@ -413,6 +421,7 @@ class ArapWidget(widgets.VBox):
         self.frames = deque(maxlen=int(history))
         self._count = 0
         self._still = 0  # settling frames so far
+        self._still_iterations = 0  # iterations since the handles last moved
         self._moved_at = -np.inf
         self._shown_offsets = self.offsets.copy()
         self._settled = True
@@ -531,6 +540,7 @@ class ArapWidget(widgets.VBox):
                 self._still += 1
             else:
                 self._still = 0
+            self._still_iterations = 0 if moved else self._still_iterations + iterations
             started, cpu = time.perf_counter(), time.process_time()
             self._arap.max_iter = iterations
             U = igl.arap_solve(self.targets(offsets), self._arap, self.U)
@@ -542,7 +552,8 @@ class ArapWidget(widgets.VBox):
             self._draw(iterations, solved - started, started, moved, cpu)
             record = self.frames[-1]
             # settled: the energy fell by less than settle_tol of itself, or to rounding (near the rest shape)
-            self._settled = not moved and previous - energy <= self.settle_tol * energy + 1e-12 * self._rest_term
+            self._settled = not moved and (previous - energy <= self.settle_tol * energy + 1e-12 * self._rest_term
+                                           or self._still_iterations >= self.settle_iterations)
             return record
 
     def _draw(self, iterations, solve_s, started, moved, cpu=0.0):

@@ -102,6 +102,7 @@ def test_at_still_handles_the_energy_never_rises_and_the_frames_settle(widget, b
     V, F, _ = bar
     widget.move_handle(1, [0.0, 1.0, 1.0])
     widget.move_handle(0, [0.0, 0.0, -0.3])
+    widget.settle_iterations = 10_000
     frames = widget.settle(max_frames=300)
     energies = [f["energy"] for f in widget.frames]
     assert frames < 300, "the energy never settled"
@@ -109,6 +110,18 @@ def test_at_still_handles_the_energy_never_rises_and_the_frames_settle(widget, b
     # settled means a frame's decrease fell below settle_tol of the energy
     assert energies[-2] - energies[-1] <= widget.settle_tol * energies[-1]
     assert widget.energy == pytest.approx(reference_energy(V, F, widget.U), rel=1e-9)
+
+
+def test_frames_at_still_handles_stop_after_settle_iterations(widget):
+    widget.settle_tol = 0.0  # never settled by the energy alone
+    widget.target_fps = 1e6  # a budget of one iteration
+    widget.settle_after = 0.0
+    widget.max_iterations = 4
+    widget.settle_iterations = 10
+    widget.move_handle(1, [0.0, 1.0, 1.0])
+    widget.step()
+    frames = widget.settle(max_frames=50)
+    assert [f["iterations"] for f in list(widget.frames)[-frames:]] == [1, 2, 4, 4]  # 11 iterations >= 10
 
 
 def test_the_iteration_budget_fills_the_frame_rate_target_while_the_handles_move(widget):
@@ -263,6 +276,7 @@ def test_bad_calls_are_refused_naming_the_argument(bar, tmp_path, call, message)
     ({"max_iterations": 0}, "max_iterations must be a positive integer"),
     ({"history": 0}, "history must be a positive integer"),
     ({"settle_after": -1}, "settle_after must be non-negative"),
+    ({"settle_iterations": 0}, "settle_iterations must be a positive integer"),
     ({"view": (0, 0, 1), "up": (0, 0, 2)}, "must be non-zero and not parallel"),
 ])
 def test_bad_widget_arguments_are_refused_naming_the_argument(bar, change, message):
