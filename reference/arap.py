@@ -322,7 +322,9 @@ def _moving_cells(G, F, free, handles, d):
     is_free = np.zeros(n, dtype=bool)
     is_free[free] = True
     moving[F[is_free[F].any(axis=1)].ravel()] = True
-    rows = lambda cells: (d * cells[:, None] + np.arange(d)).ravel()  # noqa: E731
+    def rows(cells):
+        return (d * cells[:, None] + np.arange(d)).ravel()
+
     cells, still = np.flatnonzero(moving), np.flatnonzero(~moving)
     G_cells = G[rows(cells)]
     return {

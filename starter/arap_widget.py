@@ -48,7 +48,7 @@ from starter.validation import as_faces, as_float_array, as_handles, as_points, 
 
 __all__ = ["ArapRenderer", "ArapWidget"]
 
-# matplotlib's tab10 for the handles; the rest of the surface is light grey.
+# matplotlib's tab10 colours for the handles (red, blue, green first); the rest of the surface is light grey.
 _PALETTE = np.array([
     (214, 39, 40), (31, 119, 180), (44, 160, 44), (255, 127, 14), (148, 103, 189),
     (140, 86, 75), (227, 119, 194), (188, 189, 34), (23, 190, 207), (127, 127, 127),
