@@ -325,7 +325,8 @@ class ArapWidget(widgets.VBox):
         The vertices of every handle (pairwise disjoint); together at least
         one vertex in every connected component.
     names : sequence of str, optional
-        Handle names for the label; default ``handle 0``, ``handle 1``, ...
+        Handle names, shown in the label while one is dragged; default
+        ``handle 0``, ``handle 1``, ...
     size : (int, int)
         Picture width and height in pixels.
     target_fps : float
@@ -563,11 +564,12 @@ class ArapWidget(widgets.VBox):
                                 "solve_s": solve_s, "total_s": time.perf_counter() - started,
                                 "cpu_s": time.process_time() - cpu})
         rates = self.frame_rates()
+        grabbed = self._grabbed  # the mouse's thread may let go meanwhile
         self.label.value = (
             f"frame {self._count} ({'handles moved' if moved else 'handles still'}) · ARAP energy {self.energy:.9g} · "
             f"{rates['iterations_per_frame']:.1f} iterations/frame · {rates['frames_per_second']:.1f} frames/s "
             f"(solve + render; solve alone {rates['solve_frames_per_second']:.0f}/s) · {self.renderer.backend}, "
-            f"{len(self.V):,} vertices"
+            f"{len(self.V):,} vertices" + ("" if grabbed is None else f" · dragging the {self.names[grabbed[0]]}")
         )
 
     def settle(self, max_frames=200) -> int:

@@ -163,6 +163,8 @@ def test_dragging_a_handle_moves_it_in_the_view_plane_with_the_mouse(widget, bar
     start = widget.handle_pixels()[1].mean(axis=0)
     assert widget.press(*start) == 1
     widget.drag(*(start + [30.0, -20.0]))
+    widget.step()
+    assert widget.label.value.endswith("· dragging the right")
     widget.release()
     shift = widget.offsets[1]
     assert abs(shift @ widget.renderer.view) < 1e-12  # in the view plane
