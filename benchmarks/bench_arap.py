@@ -12,6 +12,13 @@ The local step's rotation fit is timed on its own as well: the reference's
 ``optimal_rotation`` against the textbook batched ``np.linalg.svd`` with the
 sign fix, on the ``(n, 3, 3)`` covariances of the solved bar.
 
+The floor: what an iteration cannot go below with this factorization and
+this rotation fit, the two triangular solves with the prefactored matrix
+(``data.solver`` on one global step's right-hand side) plus the 3x3
+rotation fits an iteration makes (``optimal_rotation`` on the cells with a
+free vertex around them), each timed alone on the solved bar's inputs; the iteration's CPU time over it says how much the rest (sparse
+products, energy, bookkeeping) adds.
+
 Run with ``.venv/bin/python -m benchmarks.bench_arap``.
 """
 
@@ -99,6 +106,12 @@ def main(iterations=ITERATIONS, runs=RUNS, precompute_runs=PRECOMPUTE_RUNS):
         (``per_iteration_cpu_s``, ``igl_per_iteration_cpu_s``, ``ratio_cpu``,
         ``ratio_cpu_min``, ``ratio_cpu_max``); ``rotations_cpu_s`` and
         ``svd_rotations_cpu_s``, one local step's rotation fit (median);
+        ``moving_cells``, the cells with a free vertex in their one-ring
+        (the others are fitted once per solve) and ``moving_rotations_cpu_s``,
+        their rotation fit (median); ``triangular_solves_cpu_s``, one
+        prefactored solve (median); ``floor_cpu_s``, the last two summed, and ``floor_cpu_s_range``, the spread
+        of the per-run sums; ``iteration_over_floor`` (the iteration's median
+        CPU time over the floor) and ``floor_over_igl``;
         ``max_diff_rel_diag``, the largest ``|U - U_igl|`` over the bounding
         box diagonal.
     """
@@ -124,11 +137,22 @@ def main(iterations=ITERATIONS, runs=RUNS, precompute_runs=PRECOMPUTE_RUNS):
 
     n, d = V.shape
     S = (data.covariance_operator @ U).reshape(n, d, d)
-    fit, fit_svd = [], []
-    for _ in range(runs):
-        fit.append(timed(optimal_rotation, S)[0])
-        fit_svd.append(timed(svd_rotations, S)[0])
-    fit, fit_svd = np.median(fit, axis=0), np.median(fit_svd, axis=0)
+    # an iteration fits the cells with a free vertex around them (the others once per solve)
+    S_moving = S[data.moving_cells]
+    rhs = data.rhs_operator @ optimal_rotation(S).transpose(0, 2, 1).reshape(n * d, d)
+    rhs += data.L_free_handles @ target
+    x = np.empty_like(rhs)
+    fit, fit_svd, solves, fit_all = [], [], [], []
+    for _ in range(max(runs, 3) * 4):
+        fit.append(timed(optimal_rotation, S_moving)[0])
+        solves.append(timed(data.solver.solve_into, rhs, x)[0])
+        if len(fit_svd) < runs:
+            fit_all.append(timed(optimal_rotation, S)[0])
+            fit_svd.append(timed(svd_rotations, S)[0])
+    spread = np.array(fit)[:, 1] + np.array(solves)[:, 1]
+    fit, fit_svd, solves = np.median(fit, axis=0), np.median(fit_svd, axis=0), np.median(solves, axis=0)
+    fit_all = np.median(fit_all, axis=0)
+    floor = fit[1] + solves[1]
 
     diag = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
     median = np.median
@@ -150,8 +174,15 @@ def main(iterations=ITERATIONS, runs=RUNS, precompute_runs=PRECOMPUTE_RUNS):
         "ratio_cpu": float(median(ratios[:, 1])),
         "ratio_cpu_min": float(ratios[:, 1].min()),
         "ratio_cpu_max": float(ratios[:, 1].max()),
-        "rotations_cpu_s": float(fit[1]),
+        "rotations_cpu_s": float(fit_all[1]),
         "svd_rotations_cpu_s": float(fit_svd[1]),
+        "moving_cells": int(data.moving_cells.size),
+        "moving_rotations_cpu_s": float(fit[1]),
+        "triangular_solves_cpu_s": float(solves[1]),
+        "floor_cpu_s": float(floor),
+        "floor_cpu_s_range": f"{spread.min():.4f}-{spread.max():.4f}",
+        "iteration_over_floor": float(np.median(ours[:, 1]) / floor),
+        "floor_over_igl": float(floor / np.median(theirs[:, 1])),
         "max_diff_rel_diag": float(np.abs(U - U_igl).max() / diag),
     }
     print(f"ARAP, spokes and rims, bar twisted by {np.degrees(TWIST):.0f} degrees")
@@ -166,6 +197,9 @@ def main(iterations=ITERATIONS, runs=RUNS, precompute_runs=PRECOMPUTE_RUNS):
               f"range {figures['ratio' + key + '_min']:.2f}-{figures['ratio' + key + '_max']:.2f}")
     print(f"local step, {n} rotations, CPU (ms): optimal_rotation {1e3 * figures['rotations_cpu_s']:.1f}, "
           f"batched np.linalg.svd {1e3 * figures['svd_rotations_cpu_s']:.1f}")
+    print(f"floor, CPU (ms): the two triangular solves {1e3 * figures['triangular_solves_cpu_s']:.1f} + the rotation fits "
+          f"of the {figures['moving_cells']} cells with a free vertex {1e3 * figures['moving_rotations_cpu_s']:.1f} = {1e3 * floor:.1f} (range {figures['floor_cpu_s_range']} s); the iteration "
+          f"takes {figures['iteration_over_floor']:.2f}x the floor (the floor is {figures['floor_over_igl']:.2f} of libigl's iteration)")
     print(f"max |U - U_igl| / bbox diagonal: {figures['max_diff_rel_diag']:.1e}")
     return figures
 

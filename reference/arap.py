@@ -12,9 +12,9 @@ same edge in the deformed mesh ``U``.
 
 import types
 
+import cholespy
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from reference.sign_correction import optimal_rotation
 from starter.validation import (
@@ -190,6 +190,41 @@ def arap_energy(V, U, F, C, R):
     return energy
 
 
+class SparseCholesky:
+    """Sparse Cholesky factor of a symmetric positive definite matrix, for repeated solves.
+
+    CHOLMOD's supernodal factorization through ``cholespy``. Chosen on
+    measurement (``benchmarks/bench_arap.py``, 50k-vertex bar, three right-hand
+    sides, a busy 2-core machine): its two triangular solves took ~1.6 ms of
+    CPU against ~4.3 ms for SuperLU's (``scipy.sparse.linalg.splu`` in
+    minimum-degree order) and ~9 ms for ``sksparse_minimal``'s.
+
+    Parameters
+    ----------
+    A : (m, m) scipy.sparse matrix
+        Symmetric positive definite; only its lower triangle is read.
+    """
+
+    def __init__(self, A):
+        lower = sp.tril(A, format="coo")
+        self.shape = A.shape
+        self._factor = cholespy.CholeskySolverD(
+            A.shape[0], lower.row.astype(np.int32), lower.col.astype(np.int32),
+            lower.data.astype(np.float64), cholespy.MatrixType.COO,
+        )
+
+    def solve(self, b):
+        """``A⁻¹ b`` for ``b`` of shape ``(m,)`` or ``(m, k)``; a new array."""
+        b = np.ascontiguousarray(b, dtype=np.float64)
+        x = np.empty_like(b)
+        self._factor.solve(b, x)
+        return x
+
+    def solve_into(self, b, x):
+        """Write ``A⁻¹ b`` into ``x``; both C-contiguous float64 of shape ``(m,)`` or ``(m, k)``."""
+        self._factor.solve(b, x)
+
+
 def arap_precompute(V, F, handles):
     """Everything the ARAP iterations reuse, factorization included.
 
@@ -208,14 +243,21 @@ def arap_precompute(V, F, handles):
     data : types.SimpleNamespace
         ``V``, ``F``, ``C`` (``cotangent_weights``), ``L``
         (``cotangent_laplacian``), ``handles``, ``free`` (the other vertices,
-        ascending); ``solver``, the sparse LU factors of ``-L[free][:, free]``
-        (symmetric positive definite), or ``None`` when every vertex is a
-        handle; ``L_free_handles = L[free][:, handles]``;
+        ascending); ``solver``, the ``SparseCholesky`` factor of
+        ``-L[free][:, free]`` (symmetric positive definite), or ``None`` when
+        every vertex is a handle; ``L_free_handles = L[free][:, handles]``;
         ``covariance_operator``, ``(n d, n)`` sparse with
         ``(covariance_operator @ U).reshape(n, d, d) = arap_covariances(V, U, F, C)``;
         ``rhs_operator``, ``(len(free), d n)`` sparse, so that the global
         step's right-hand side is ``rhs_operator @ R.transpose(0, 2, 1).reshape(n d, d)``;
-        ``rest_dirichlet = Σ_t Σ_k C[t, k] ‖e_tk‖²``.
+        ``rest_dirichlet = Σ_t Σ_k C[t, k] ‖e_tk‖²``;
+        ``L_handles = L[handles][:, handles]``; ``moving_cells``, the vertices
+        with a free vertex in a triangle around them; ``covariance_moving``,
+        the rows of ``covariance_operator`` of the moving cells and its columns
+        in the order ``[free, handles]``; ``rhs_moving``, the columns of
+        ``rhs_operator`` of the moving cells (the others are zero);
+        ``covariance_still``, the rows of the other cells and the handles'
+        columns (the others are zero).
 
     Notes
     -----
@@ -245,14 +287,7 @@ def arap_precompute(V, F, handles):
     is_free[handles] = False
     free = np.flatnonzero(is_free)
     L_free = L[free]
-    solver = None
-    if free.size:
-        # -L_ff is symmetric positive definite: no pivoting, and a minimum degree
-        # ordering of A + Aᵀ (on a 50k-vertex bar 2.5x less fill than the default)
-        solver = spla.splu(
-            -L_free[:, free].tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        )
+    solver = SparseCholesky(-L_free[:, free]) if free.size else None
     E = V[np.roll(F, -1, axis=1)] - V[np.roll(F, -2, axis=1)]
     weighted = C[:, :, None] * E
     P = np.roll(weighted, 1, axis=1) - np.roll(weighted, -1, axis=1)
@@ -269,7 +304,36 @@ def arap_precompute(V, F, handles):
         covariance_operator=G.tocsc(),
         rhs_operator=(G[:, free].T / 3.0).tocsc(),
         rest_dirichlet=float(np.sum(C * np.einsum("tka,tka->tk", E, E))),
+        L_handles=L[handles][:, handles].tocsr(),
+        **_moving_cells(G, F, free, handles, d),
     )
+
+
+def _moving_cells(G, F, free, handles, d):
+    """What ``arap_solve`` iterates on: the cells with a free vertex in their one-ring, columns [free, handles].
+
+    A cell whose triangles hold only handles (inside a handle region) keeps its
+    covariance, rotation and energy term through a solve, and its rotation
+    enters no free vertex's right-hand side (its rows of ``G`` vanish on the
+    free columns): it is fitted once per solve, not once per iteration.
+    """
+    n = G.shape[1]
+    moving = np.zeros(n, dtype=bool)
+    is_free = np.zeros(n, dtype=bool)
+    is_free[free] = True
+    moving[F[is_free[F].any(axis=1)].ravel()] = True
+    def rows(cells):
+        return (d * cells[:, None] + np.arange(d)).ravel()
+
+    cells, still = np.flatnonzero(moving), np.flatnonzero(~moving)
+    G_cells = G[rows(cells)]
+    return {
+        "moving_cells": cells,
+        # rows [free, handles]: the solve writes the free block of the iterate in place
+        "covariance_moving": G_cells[:, np.concatenate([free, handles])].tocsc(),
+        "rhs_moving": (G_cells[:, free].T / 3.0).tocsc(),
+        "covariance_still": G[rows(still)][:, handles].tocsr(),
+    }
 
 
 def arap_global_step(data, R, handle_positions):
@@ -336,9 +400,11 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
     The local step uses ``data.covariance_operator`` instead of
     ``arap_covariances`` (same matrices, one sparse product). The energy uses
     ``E = 3 (Σ C ‖e'‖² + Σ C ‖e‖²) - 2 Σ_i tr(R_i S_i(U))`` with
-    ``Σ C ‖e'‖² = -tr(Uᵀ L U)``, and ``S(U_k)`` is the next local step's input;
-    it agrees with ``arap_energy`` up to rounding relative to the Dirichlet
-    energies (``~1e-15`` of ``3 Σ C (‖e'‖² + ‖e‖²)``).
+    ``Σ C ‖e'‖² = -tr(Uᵀ L U)``, and ``S(U_k)`` is the next local step's input.
+    ``-tr(Uᵀ L U)`` comes from the global step's own system
+    ``-L_ff U_f = b_R + L_fh U_h``: it is ``tr(U_fᵀ (b_R - L_fh U_h)) - tr(U_hᵀ L_hh U_h)``.
+    The energy agrees with ``arap_energy`` up to rounding relative to the
+    Dirichlet energies (``~1e-15`` of ``3 Σ C (‖e'‖² + ‖e‖²)``).
     """
     if not isinstance(data, types.SimpleNamespace) or not hasattr(data, "rhs_operator"):
         raise ValueError(f"data must be the result of arap_precompute(V, F, handles), got {type(data).__name__}")
@@ -353,14 +419,35 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
         if U.shape != (n, d):
             raise ValueError(f"U0 must have the shape of V, {(n, d)}, got {U.shape}")
     U[data.handles] = handle_positions
-    S = (data.covariance_operator @ U).reshape(n, d, d)
     energies = np.empty(int(iterations))
+    if iterations == 0:
+        return U, energies
+    # U_p = U[[free, handles]]: the solve writes U_p's free block, a contiguous view, in place
+    m, cells = data.free.size, data.moving_cells.size
+    U_p = np.concatenate([U[data.free], handle_positions])
+    handle_rhs = data.L_free_handles @ handle_positions
+    handle_dirichlet = np.einsum("ij,ij->", handle_positions, data.L_handles @ handle_positions)
+    # the cells inside handle regions: one fit per solve (their covariances do not change)
+    S_still = (data.covariance_still @ handle_positions).reshape(-1, d, d)
+    still_fit = np.einsum("kij,kji->", optimal_rotation(S_still), S_still) if len(S_still) else 0.0
+    S = (data.covariance_moving @ U_p).reshape(cells, d, d)
     for k in range(int(iterations)):
-        R = optimal_rotation(S)
-        U = arap_global_step(data, R, handle_positions)
-        S = (data.covariance_operator @ U).reshape(n, d, d)
-        dirichlet = -np.einsum("ij,ij->", U, data.L @ U)
-        energies[k] = 3.0 * (dirichlet + data.rest_dirichlet) - 2.0 * np.einsum("kij,kji->", R, S)
+        if cells:
+            R = optimal_rotation(S)
+            Rt = R.transpose(0, 2, 1).reshape(cells * d, d)
+            rotation_rhs = data.rhs_moving @ Rt
+        else:
+            Rt, rotation_rhs = np.empty((0, d)), np.zeros((m, d))
+        if m:
+            data.solver.solve_into(rotation_rhs + handle_rhs, U_p[:m])
+        S = (data.covariance_moving @ U_p).reshape(cells, d, d)
+        # -Uᵀ L U from the solve's -L_ff U_f = rotation_rhs + L_fh U_h (einsum, not
+        # BLAS's dot: OpenBLAS's threads would spin on the other core)
+        dirichlet = np.einsum("ij,ij->", U_p[:m], rotation_rhs - handle_rhs) - handle_dirichlet
+        # Σ_i tr(R_i S_i) = Σ_i Σ_ab (R_iᵀ)_ba (S_i)_ba
+        fit = np.einsum("i,i->", Rt.ravel(), S.ravel()) + still_fit
+        energies[k] = 3.0 * (dirichlet + data.rest_dirichlet) - 2.0 * fit
+    U[data.free] = U_p[:m]
     return U, energies
 
 

@@ -11,8 +11,8 @@ Checks, each failing the release loudly:
 3. the release notebooks execute with the stubs, where only cells that use a
    contract function fail, every tests cell fails, and a blank submission scores 0;
 4. every autograded cell has points and the stable ``grade_id`` ``test_<function>``;
-5. the ungraded demo notebook (``notebooks/demo_skinning``), shipped in the
-   student bundle, runs top to bottom and shows its widget and animation.
+5. the ungraded demo notebooks (``notebooks/demo_skinning``, ``notebooks/demo_arap``),
+   shipped in the student bundle, run top to bottom and show their widget and animation.
 """
 
 from __future__ import annotations
@@ -102,7 +102,9 @@ Keep `starter/` and `data/` next to the notebooks; do not rename the notebooks.
 
 `demo_skinning.ipynb` is not graded: libigl's demo 403 (pose a character with
 sliders, linear blend skinning follows in real time, export the animation as a
-GIF). Run it in JupyterLab after `05_lbs`.
+GIF). Run it in JupyterLab after `05_lbs`. `demo_arap.ipynb` is not graded
+either: libigl's tutorial 405 (drag the handles of a bar, ARAP follows in real
+time); run it after `03_arap`.
 
 When grading, your solution cells and the cells that only set things up run;
 tests cells and cells that call the graded functions at top level (pictures,
@@ -115,8 +117,9 @@ in a cell that does not call a graded function.
 QUIET_KERNEL = ["--IPKernelApp.log_level=ERROR"]
 
 
-#: The ungraded demo in the student bundle: ``notebooks/<DEMO>/<DEMO>.py``, shipped as ``<DEMO>.ipynb``.
-DEMO = "demo_skinning"
+#: The ungraded demos in the student bundle: ``notebooks/<name>/<name>.py``, shipped as ``<name>.ipynb``.
+DEMOS = ("demo_skinning", "demo_arap")
+DEMO = DEMOS[0]
 
 
 class ReleaseError(RuntimeError):
@@ -347,32 +350,32 @@ def check_points(sources: list[Path], report: ReleaseReport) -> None:
         report.manual_points[path.stem] = manual
 
 
-def demo_notebook(paths: CoursePaths) -> nbformat.NotebookNode:
-    """The ungraded demo, converted from its jupytext source ``notebooks/demo_skinning/demo_skinning.py``.
+def demo_notebook(paths: CoursePaths, name: str = DEMO) -> nbformat.NotebookNode:
+    """An ungraded demo, converted from its jupytext source ``notebooks/<name>/<name>.py``.
 
-    It ships in the student bundle as ``demo_skinning.ipynb``, not in
+    It ships in the student bundle as ``<name>.ipynb``, not in
     ``release/<assignment>``: nbgrader rewrites that folder whenever its
     ``generate_assignment`` runs, as grading with a fresh gradebook does.
     """
     import jupytext
 
-    return jupytext.read(paths.notebooks / DEMO / f"{DEMO}.py")
+    return jupytext.read(paths.notebooks / name / f"{name}.py")
 
 
-def check_demo_execution(demo: nbformat.NotebookNode, report: ReleaseReport) -> None:
-    """Run the demo top to bottom with pictures on, in a scratch folder (it writes a GIF where it runs)."""
+def check_demo_execution(demo: nbformat.NotebookNode, report: ReleaseReport, name: str = DEMO) -> None:
+    """Run a demo top to bottom with pictures on, in a scratch folder (it writes a GIF where it runs)."""
     with tempfile.TemporaryDirectory(prefix="dl-demo-") as tmp:
-        path = Path(tmp) / f"{DEMO}.ipynb"
+        path = Path(tmp) / f"{name}.ipynb"
         nbformat.write(demo, path)
         started = time.monotonic()
         nb = _execute(path, {"DEFORMLAB_NO_PLOTS": "0"})
-        report.timings[f"demo {DEMO}"] = time.monotonic() - started
+        report.timings[f"demo {name}"] = time.monotonic() - started
     for i, why in _errors(nb).items():
-        report.problems.append(f"demo {DEMO}.ipynb, cell {i + 1} fails: {why}")
+        report.problems.append(f"demo {name}.ipynb, cell {i + 1} fails: {why}")
     shown = {mime for cell in nb.cells for out in cell.get("outputs", []) for mime in out.get("data", {})}
     for mime, what in (("application/vnd.jupyter.widget-view+json", "the widget"), ("image/gif", "the animation")):
         if mime not in shown:
-            report.problems.append(f"demo {DEMO}.ipynb does not show {what} ({mime})")
+            report.problems.append(f"demo {name}.ipynb does not show {what} ({mime})")
 
 
 def course_files(paths: CoursePaths):
@@ -425,7 +428,8 @@ def write_bundle(paths: CoursePaths, assignment: str) -> Path:
         root = f"{assignment}"
         for nb in sorted((paths.release / assignment).glob("*.ipynb")):
             z.write(nb, f"{root}/{nb.name}")
-        z.writestr(_readable(f"{root}/{DEMO}.ipynb"), nbformat.writes(demo_notebook(paths)))
+        for name in DEMOS:
+            z.writestr(_readable(f"{root}/{name}.ipynb"), nbformat.writes(demo_notebook(paths, name)))
         for f, relative in course_files(paths):
             z.write(f, f"{root}/{relative}")
         z.writestr(_readable(f"{root}/requirements.txt"), student_requirements(paths))
@@ -464,7 +468,9 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
             ("executing the release notebooks with their stubs", lambda: check_release_execution(released, report)),
             ("grading the blank release (it must earn nothing)",
              lambda: check_grades(sources, paths.release / assignment, False, report, "blank", paths)),
-            (f"executing the demo {DEMO}", lambda: check_demo_execution(demo_notebook(paths), report)),
+        ) + tuple(
+            (f"executing the demo {name}", lambda name=name: check_demo_execution(demo_notebook(paths, name), report, name))
+            for name in DEMOS
         )
         for k, (what, step) in enumerate(steps, 1):
             say(f"[{k}/{len(steps)}] {what} ...")

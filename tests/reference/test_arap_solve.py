@@ -191,3 +191,24 @@ def test_bad_inputs_raise_value_error_naming_the_argument(change, message):
     args.update(change)
     with pytest.raises(ValueError, match=message):
         arap_solve(**args)
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.sampled_from(["bar_coarse", "character"]), seeds, st.floats(0.0, 1.0))
+def test_cells_inside_handle_regions_give_the_plain_local_global_iterates(mesh, seed, radius):
+    # arap_solve fits the rotations of cells whose triangles hold only handles once per solve
+    V, F = load_mesh(mesh)
+    rng = np.random.default_rng(seed)
+    centre = V[rng.integers(len(V))]
+    region = np.flatnonzero(np.linalg.norm(V - centre, axis=1) <= radius * np.ptp(V, axis=0).max())
+    handles = np.union1d(region, rng.choice(len(V), 2, replace=False))
+    data = arap_precompute(V, F, handles)
+    target = V[handles] + 0.1 * rng.normal(size=(len(handles), V.shape[1]))
+    U_all, energies = arap_solve(data, target, iterations=3)
+    U = V.copy()
+    U[handles] = target
+    for k in range(3):
+        R = arap_rotations(V, U, F, data.C)
+        U = arap_global_step(data, R, target)
+        assert energies[k] == pytest.approx(arap_energy(V, U, F, data.C, R), rel=1e-10, abs=1e-12)
+    np.testing.assert_allclose(U_all, U, rtol=0, atol=1e-11)
