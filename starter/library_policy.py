@@ -14,9 +14,10 @@ stay usable outside graded functions: pictures, experiments and your own checks.
 The table is course data (:data:`OWN`, :data:`BUILDS_ON`), published in
 ``LIBRARY_POLICY.md`` (a test keeps both equal) and at the top of every notebook.
 
-``check(name, function, *args)`` (run by each notebook's tests cell) calls your
-function and fails with a message naming the routine if it used one the policy
-forbids; ``check_notebook.py`` shows that message. Grading does the same in the
+Each notebook's tests cell starts with ``watch(name)`` and ends with
+``verdict(name)``, which fails with a message naming the routine if the function
+used one the policy forbids while the cell ran (``check_notebook.py`` shows that
+message); ``check(name, function, *args)`` does the same for one call. Grading does the same in the
 sandboxed kernel, on the hidden inputs: :func:`install` wraps every listed routine
 before the notebook's first cell runs (``igl`` and its extension module
 ``igl.pyigl_core``, the scipy modules and classes that define the others, and
@@ -60,7 +61,7 @@ import sys
 import threading
 import types
 
-__all__ = ["OWN", "BUILDS_ON", "forbidden", "check", "install", "markdown", "violations", "reset", "message"]
+__all__ = ["OWN", "BUILDS_ON", "forbidden", "check", "watch", "verdict", "install", "markdown", "violations", "reset", "message"]
 
 # Routine groups. A routine is named as students write it; LOCATIONS says where it lives.
 _EDGES = ("igl.edges", "igl.edge_topology", "igl.edge_flaps", "igl.unique_edge_map", "igl.unique_edge_map_lists")
@@ -517,6 +518,31 @@ def check(function: str, implementation, *args, **kwargs):
     if used:
         raise AssertionError(message(function, used[0]))
     return result
+
+
+def watch(function: str) -> None:
+    """Start recording, for a tests cell, the routines ``function`` calls that the policy forbids in it.
+
+    The tests cell then calls the notebook's functions as usual and ends with :func:`verdict`.
+    """
+    if function not in OWN:
+        raise ValueError(f"{function!r} is not a graded function of the course")
+    install()
+    _state.namespace, _state.current, _state.found = sys._getframe(1).f_globals, function, []
+
+
+def verdict(function: str) -> None:
+    """End a :func:`watch`: fail naming the first routine the policy forbids that ``function`` called.
+
+    Raises
+    ------
+    AssertionError
+        With :func:`message`'s text.
+    """
+    used = violations(function)
+    _state.current, _state.found = None, []
+    if used:
+        raise AssertionError(message(function, used[0]))
 
 
 def markdown(functions) -> str:
