@@ -58,4 +58,15 @@ def class_summary(results: list[dict]) -> str:
     if len(students) <= MAX_STUDENT_ROWS:
         parts += [score_table(results, students, notebooks), ""]
     parts.append(notebook_stats(results, notebooks))
+    banned = policy_lines(results)
+    if banned:
+        parts += ["", *banned]
     return "\n".join(parts)
+
+
+def policy_lines(results: list[dict]) -> list[str]:
+    """One line per function and routine the library policy forbids there that students called (the report lists who)."""
+    from grader.report.class_report import policy_violations
+
+    rows = policy_violations(results)
+    return [f"library policy: {r['function']} called {r['routine']} in {r['students']} notebook(s), scored 0" for r in rows]
