@@ -40,11 +40,14 @@ inside ``arap_precompute``) is charged to the function that made it. A library
 routine called by another wrapped routine is not recorded again. When the
 graded function is not Python code the stack can show (an alias such as
 ``cotangent_laplacian = igl.cotmatrix``, a ``functools.partial``), the call is
-charged to the function being checked or collected.
+charged to the function being checked or collected; so is a call from another
+thread while a function is checked or collected (that thread's stack does not
+show who handed it the work).
 
 Boundary. This guards against ordinary shortcuts, not a determined attacker in
 their own kernel: code that digs the original routine out of a wrapper's
 closure or the garbage collector, calls the shared library through ``ctypes``,
+calls the routine in a child process (whose records stay there),
 executes a library's source text by hand, or edits this module's records is out
 of scope (the registry lives in the student's process; the grader reads what it
 reports as untrusted data, names of routines in this table only).
@@ -302,8 +305,12 @@ def _charge(routine: str, wrapper) -> None:
             break
         frame = frame.f_back
     del frame
-    if charged is None and _state.current in names and _code_of(namespace.get(_state.current)) is None:
-        charged = _state.current  # the graded name is the routine itself, or a partial of it
+    if charged is None and _state.current in names and (
+        _code_of(namespace.get(_state.current)) is None or threading.current_thread() is not threading.main_thread()
+    ):
+        # the graded name is the routine itself (a partial of it, an object), or the call came from
+        # another thread (whose stack does not show the function that handed it the work)
+        charged = _state.current
     if charged is not None and (charged, routine) not in _state.found and len(_state.found) < MAX_RECORDS:
         _state.found.append((charged, routine))
 

@@ -145,6 +145,9 @@ ns["dual_quaternions"] = lambda T: Rotation.from_matrix(T).as_quat()
 run("allowed conversion", "dual_quaternions", lambda: ns["dual_quaternions"](np.eye(3)))
 ns["optimal_rotation"] = lambda S: Rotation.from_matrix(S.T).as_matrix()
 run("the same routine where it fits", "optimal_rotation", lambda: ns["optimal_rotation"](np.eye(3)))
+from concurrent.futures import ThreadPoolExecutor
+ns["cotangent_laplacian"] = lambda V, F: ThreadPoolExecutor(1).submit(igl.cotmatrix, V, F).result()
+run("another thread", "cotangent_laplacian", lambda: ns["cotangent_laplacian"](V, F))
 results["same result"] = [bool(abs(igl.cotmatrix(V, F) - early).max() == 0)]
 print(json.dumps(results))
 """
@@ -175,6 +178,7 @@ def scenarios() -> dict:
         ("at top level", []),
         ("allowed conversion", []),
         ("the same routine where it fits", [["optimal_rotation", "scipy.spatial.transform.Rotation.from_matrix"]]),
+        ("another thread", [["cotangent_laplacian", "igl.cotmatrix"]]),
         ("same result", [True]),
     ],
 )
