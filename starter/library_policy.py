@@ -390,6 +390,7 @@ def _rewrapping(method):
         try:
             watched = _watched_name(module)
             if watched is not None:
+                _remember(module, watched)
                 _wrap_module(module, watched)
         except Exception:  # noqa: BLE001 - an import never fails because of the policy
             pass
@@ -426,26 +427,27 @@ def install(namespace: dict | None = None) -> None:
         _state.namespace = namespace
     if _state.installed:
         return
-    _patch_loaders()  # first: modules imported below are wrapped by the loaders too
+    # The loaders wrap every watched module they build from now on (a first import, a re-import,
+    # a module built from its file); the modules already imported are wrapped here.
+    _patch_loaders()
     for name in _MODULES:
-        try:
-            module = importlib.import_module(name)
-        except ImportError:
-            continue
-        path = getattr(module, "__file__", None)
-        if isinstance(path, str):
-            _state.files[os.path.realpath(path)] = name
-        _wrap_module(module, name)
+        module = sys.modules.get(name)
+        if isinstance(module, types.ModuleType):
+            _remember(module, name)
+            _wrap_module(module, name)
     _state.installed = True
 
 
-def _notebook_namespace() -> dict | None:
-    try:
-        from IPython import get_ipython
+def _remember(module: types.ModuleType, name: str) -> None:
+    """Know ``module``'s file as ``name``'s, so a module built again from it under any name is wrapped too."""
+    path = getattr(module, "__file__", None)
+    if isinstance(path, str):
+        _state.files[os.path.realpath(path)] = name
 
-        shell = get_ipython()
-    except ImportError:
-        shell = None
+
+def _notebook_namespace() -> dict | None:
+    ipython = sys.modules.get("IPython")  # running in IPython means it is imported already
+    shell = ipython.get_ipython() if ipython is not None else None
     if shell is not None:
         return shell.user_ns
     main = sys.modules.get("__main__")

@@ -77,10 +77,12 @@ POLICY_INSTALL = (
 )
 
 
-def policy_cells(functions: list[str]) -> list[nbformat.NotebookNode]:
+def policy_cells(notebook: str, functions: list[str]) -> list[nbformat.NotebookNode]:
     """The policy of the notebook's functions (from ``starter.library_policy``'s table) and the cell that installs it."""
     text = library_policy.markdown(functions)
-    return [nbformat.v4.new_markdown_cell(text), _provided_cell(POLICY_INSTALL, 0)]
+    # the install cell's grade id is the notebook's own: a grade id shared by every notebook would
+    # let another stage's notebook pass for this one (sanitize matches submissions by grade ids)
+    return [nbformat.v4.new_markdown_cell(text), _provided_cell(POLICY_INSTALL, 0, salt=notebook)]
 
 
 def with_policy_check(function: str, source: str) -> str:
@@ -93,8 +95,8 @@ def with_policy_check(function: str, source: str) -> str:
     )
 
 
-def _provided_cell(source: str, number: int) -> nbformat.NotebookNode:
-    digest = hashlib.sha1(source.encode()).hexdigest()[:8]
+def _provided_cell(source: str, number: int, salt: str = "") -> nbformat.NotebookNode:
+    digest = hashlib.sha1((salt + source).encode()).hexdigest()[:8]
     return nbformat.v4.new_code_cell(
         source, metadata=_nbgrader(f"provided_{number:02d}_{digest}", grade=False, solution=False, locked=True)
     )
@@ -112,7 +114,7 @@ def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
         if cell.kind == "text":
             nb.cells.append(nbformat.v4.new_markdown_cell(cell.source))
             if len(nb.cells) == 1:  # the policy follows the notebook's first text
-                nb.cells += policy_cells(functions)
+                nb.cells += policy_cells(authored.name, functions)
         elif cell.kind == "answer":
             nb.cells.append(
                 nbformat.v4.new_markdown_cell(

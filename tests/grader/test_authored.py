@@ -118,3 +118,5 @@ def test_the_library_policy_follows_the_first_text_and_every_tests_cell_checks_i
     public = tests.source.split("### BEGIN HIDDEN TESTS")[0].strip().splitlines()
     assert public[2] == "_library_policy.watch('centroid')  # the library policy: routines it may not use"
     assert public[-1] == "_library_policy.verdict('centroid')"
+    other = build_source_notebook(read_authored(write(tmp_path, CENTROID + CENTROID_TESTS, "10_other")))
+    assert other.cells[2].metadata["nbgrader"]["grade_id"] != nb.cells[2].metadata["nbgrader"]["grade_id"]

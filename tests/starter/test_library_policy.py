@@ -114,6 +114,7 @@ spec = importlib.util.spec_from_file_location("igl.pyigl_core", igl.pyigl_core._
 built = importlib.util.module_from_spec(spec)
 ns["cotangent_laplacian"] = lambda V, F: built.cotmatrix(V, F)
 run("extension module built from its file", "cotangent_laplacian", lambda: ns["cotangent_laplacian"](V, F))
+import scipy.linalg  # imported first after install(): the loaders wrap it
 del sys.modules["scipy.linalg._procrustes"], sys.modules["scipy.linalg"]
 import scipy.linalg
 ns["optimal_orthogonal"] = lambda S: scipy.linalg.orthogonal_procrustes(np.eye(3), S.T)[0]
@@ -219,12 +220,15 @@ def test_check_fails_naming_the_routine_and_returns_an_honest_functions_result()
     assert out["nothing left over"] == []
 
 
-def test_install_wraps_every_routine_where_it_lives_without_functools_wraps():
+def test_install_wraps_every_routine_where_it_lives_also_in_modules_imported_later_and_hands_out_no_original():
     code = textwrap.dedent(
         """
-        import json, sys
+        import importlib, json, sys
+        import igl  # imported before install(): wrapped by it
         from starter import library_policy as lp
         lp.install()
+        for name in lp._MODULES:  # imported after: wrapped by the loaders
+            importlib.import_module(name)
         missing = []
         for routine in sorted(lp.ROUTINES):
             for location in lp._locations(routine):
@@ -232,7 +236,7 @@ def test_install_wraps_every_routine_where_it_lives_without_functools_wraps():
                 owner = sys.modules.get(module)
                 for part in attribute.split("."):
                     owner = getattr(owner, part, None)
-                if owner is not None and getattr(owner, "__deformlab_routine__", None) != routine:
+                if getattr(owner, "__deformlab_routine__", None) != routine:
                     missing.append(location)
                 if hasattr(owner, "__wrapped__"):
                     missing.append(location + " hands out __wrapped__")
