@@ -13,6 +13,10 @@ import textwrap
 from pathlib import Path
 
 
+#: what the library policy's failures say (``starter.library_policy.message``)
+POLICY_MARK = "library policy (LIBRARY_POLICY.md)"
+
+
 def check_notebook(path: Path, timeout: float = 120.0) -> int:
     """Execute ``path`` top to bottom and report its public tests.
 
@@ -61,6 +65,11 @@ def check_notebook(path: Path, timeout: float = 120.0) -> int:
         for line in lines[1:]:
             print(f"{indent}{line}".rstrip())
     failed = sum(status != "pass" for _, status, _ in rows)
+    # the library policy's verdicts (starter/library_policy.py): the function scores 0 when graded
+    banned = [name for name, status, message in rows if status == "FAIL" and POLICY_MARK in message]
+    if banned:
+        print(f"library policy: {', '.join(banned)} call{'s' if len(banned) == 1 else ''} a routine LIBRARY_POLICY.md "
+              "does not allow there; graded, such a function scores 0")
     print(f"{len(rows) - failed} passed, {failed} failed")
     return 1 if failed or not rows else 0
 

@@ -100,6 +100,11 @@ public tests is necessary, not sufficient.
 
 Keep `starter/` and `data/` next to the notebooks; do not rename the notebooks.
 
+Grades measure your own work: `LIBRARY_POLICY.md` (and the top of each
+notebook) lists the library routines each function may not use, because they
+compute its answer. A function that calls one, even through a helper, scores 0;
+its tests cell and `check_notebook.py` name the call.
+
 `demo_skinning.ipynb` is not graded: libigl's demo 403 (pose a character with
 sliders, linear blend skinning follows in real time, export the animation as a
 GIF). Run it in JupyterLab after `05_lbs`. `demo_arap.ipynb` is not graded
@@ -417,6 +422,15 @@ def _readable(name: str) -> zipfile.ZipInfo:
     return info
 
 
+def student_library_policy() -> str:
+    """The bundle's ``LIBRARY_POLICY.md``: every graded function's row, from ``starter.library_policy``'s table."""
+    from grader.contract import STAGES, stage_functions
+    from starter.library_policy import markdown
+
+    functions = [f for stage in STAGES for f in stage_functions(stage)]
+    return "# The library-call policy\n\n" + markdown(functions) + "\n"
+
+
 def write_bundle(paths: CoursePaths, assignment: str) -> Path:
     """``dist/<assignment>-student.zip``: release notebooks, the demo, starter/, data/, requirements, README, self-check."""
     from grader import student_check
@@ -435,6 +449,7 @@ def write_bundle(paths: CoursePaths, assignment: str) -> Path:
         z.writestr(_readable(f"{root}/requirements.txt"), student_requirements(paths))
         z.writestr(_readable(f"{root}/README.md"), STUDENT_README)
         z.write(student_check.__file__, f"{root}/check_notebook.py")
+        z.writestr(f"{root}/LIBRARY_POLICY.md", student_library_policy())
     tmp.replace(target)
     return target
 

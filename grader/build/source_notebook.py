@@ -5,7 +5,9 @@ nbgrader grade metadata and a hidden section that runs the trusted checks of
 ``grader/checks`` against the notebook's own functions, so an instructor running
 the source notebook sees the teaching solutions match ``reference/`` on the hidden
 cases. The tests cell of a function graded in an earlier stage stays an ungraded
-public check: a bug is charged once.
+public check: a bug is charged once. The course's library policy
+(``starter/library_policy.py``) follows the notebook's first text, with a cell that
+installs its recorder, and every tests cell checks it (``watch`` ... ``verdict``).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from pathlib import Path
 import nbformat
 
 from grader.build.authored import AuthoredNotebook, AuthoringError, read_authored
+from starter import library_policy
 
 BEGIN_HIDDEN = "### BEGIN HIDDEN TESTS"
 END_HIDDEN = "### END HIDDEN TESTS"
@@ -65,6 +68,40 @@ def hidden_section(function: str) -> str:
     )
 
 
+POLICY_INSTALL = (
+    "# The course's library policy (above): this records calls of those routines made inside\n"
+    "# your functions; each tests cell reports them. It never changes what a routine returns.\n"
+    "from starter import library_policy\n"
+    "\n"
+    "library_policy.install()"
+)
+
+
+def policy_cells(notebook: str, functions: list[str]) -> list[nbformat.NotebookNode]:
+    """The policy of the notebook's functions (from ``starter.library_policy``'s table) and the cell that installs it."""
+    text = library_policy.markdown(functions)
+    # the install cell's grade id is the notebook's own: a grade id shared by every notebook would
+    # let another stage's notebook pass for this one (sanitize matches submissions by grade ids)
+    return [nbformat.v4.new_markdown_cell(text), _provided_cell(POLICY_INSTALL, 0, salt=notebook)]
+
+
+def with_policy_check(function: str, source: str) -> str:
+    """A tests cell's source between the policy's ``watch`` and ``verdict`` for ``function``."""
+    return (
+        "from starter import library_policy as _library_policy\n\n"
+        f"_library_policy.watch({function!r})  # the library policy: routines it may not use\n"
+        f"{source.rstrip()}\n"
+        f"_library_policy.verdict({function!r})"
+    )
+
+
+def _provided_cell(source: str, number: int, salt: str = "") -> nbformat.NotebookNode:
+    digest = hashlib.sha1((salt + source).encode()).hexdigest()[:8]
+    return nbformat.v4.new_code_cell(
+        source, metadata=_nbgrader(f"provided_{number:02d}_{digest}", grade=False, solution=False, locked=True)
+    )
+
+
 def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
     """Assemble the nbgrader source notebook of an authored notebook."""
     nb = nbformat.v4.new_notebook()
@@ -72,9 +109,12 @@ def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
     nb.metadata["language_info"] = {"name": "python"}
     nb.metadata["deformlab"] = {"notebook": authored.name}
     provided = 0
+    functions = [c.function for c in authored.cells if c.kind == "solution"]
     for cell in authored.cells:
         if cell.kind == "text":
             nb.cells.append(nbformat.v4.new_markdown_cell(cell.source))
+            if len(nb.cells) == 1:  # the policy follows the notebook's first text
+                nb.cells += policy_cells(authored.name, functions)
         elif cell.kind == "answer":
             nb.cells.append(
                 nbformat.v4.new_markdown_cell(
@@ -84,13 +124,7 @@ def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
             )
         elif cell.kind == "provided":
             provided += 1
-            digest = hashlib.sha1(cell.source.encode()).hexdigest()[:8]
-            nb.cells.append(
-                nbformat.v4.new_code_cell(
-                    cell.source,
-                    metadata=_nbgrader(f"provided_{provided:02d}_{digest}", grade=False, solution=False, locked=True),
-                )
-            )
+            nb.cells.append(_provided_cell(cell.source, provided))
         elif cell.kind == "exercise":  # the student writes the part between the markers; nothing grades it
             nb.cells.append(
                 nbformat.v4.new_code_cell(
@@ -108,11 +142,12 @@ def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
         elif cell.kind == "tests" and not cell.points:
             nb.cells.append(
                 nbformat.v4.new_code_cell(
-                    cell.source, metadata=_nbgrader(public_check_id(cell.function), grade=False, solution=False, locked=True)
+                    with_policy_check(cell.function, cell.source),
+                    metadata=_nbgrader(public_check_id(cell.function), grade=False, solution=False, locked=True),
                 )
             )
         elif cell.kind == "tests":
-            source = cell.source.rstrip() + "\n\n" + hidden_section(cell.function)
+            source = with_policy_check(cell.function, cell.source) + "\n\n" + hidden_section(cell.function)
             nb.cells.append(
                 nbformat.v4.new_code_cell(
                     source,

@@ -63,6 +63,8 @@ class FunctionResult:
     function: str
     cases: list[CaseResult] = field(default_factory=list)
     error: str | None = None  # a failure of the whole collection (kernel died, timeout, ...)
+    #: library routines the course's policy forbids here that the function called (it then scores 0)
+    policy_violations: tuple[str, ...] = ()
 
     @property
     def fraction(self) -> float:
@@ -91,6 +93,20 @@ class FunctionResult:
         first = failed[0]
         why = first.error or next(f"{v.name}: {v.detail}" for v in first.verdicts if not v.passed)
         return f"{len(failed)} of {len(self.cases)} hidden cases failed; first: {first.label}: {why}"
+
+
+def charge_policy(result: FunctionResult, violations: tuple[str, ...]) -> FunctionResult:
+    """``result`` scoring 0 if the function called library routines the course's policy forbids in it.
+
+    The verdicts of its cases stay (the feedback shows them); the error names every routine.
+    """
+    if not violations:
+        return result
+    from starter.library_policy import message
+
+    result.policy_violations = tuple(violations)
+    result.error = "; ".join(message(result.function, r) for r in violations)
+    return result
 
 
 def reference_outputs(cases: list[Case]) -> list[Any]:

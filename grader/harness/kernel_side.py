@@ -2,9 +2,10 @@
 
 This file's source is sent to the kernel as one cell, so it imports only the
 standard library, numpy and scipy, and defines a single entry point,
-``__deformlab_collect__``, and the argument sketch the grader computes too
-(``__deformlab_sketch__``). Everything it writes is treated as untrusted by the
-grader; it computes no verdicts.
+``__deformlab_collect__``, with ``__deformlab_policy__`` (its recorder of library
+calls the course's policy forbids) and the argument sketch the grader computes
+too (``__deformlab_sketch__``). Everything it writes is treated as untrusted by
+the grader; it computes no verdicts.
 
 While a function's cases run, the other course functions the manifest names
 under ``"record"`` are wrapped, so that every call the student's function makes
@@ -77,6 +78,8 @@ def __deformlab_collect__(function, fixture_dir, out_dir):
     arrays = dict(_np.load(_os.path.join(fixture_dir, function + ".npz"), allow_pickle=False))
     namespace = globals()
     saved, records = {}, []
+    # a snapshot: the policy finds the student's own functions on the stack, not the recorders below
+    policy = __deformlab_policy__(dict(namespace), function)
     plan = manifest.get("record") or {}
     calls = []  # the current case's recorded calls
     room = [int(plan.get("budget", 0))]  # elements the recordings may still hold
@@ -186,4 +189,29 @@ def __deformlab_collect__(function, fixture_dir, out_dir):
     except Exception:  # noqa: BLE001
         peak = None
     with open(_os.path.join(out_dir, function + ".json"), "w") as fh:
-        _json.dump({"function": function, "records": records, "peak_rss_bytes": peak}, fh)
+        _json.dump({"function": function, "records": records, "peak_rss_bytes": peak,
+                    "policy_violations": policy()}, fh)
+
+
+def __deformlab_policy__(namespace, function):
+    """Start recording the library-call policy's violations for ``function``; returns what reads them.
+
+    The recorder is ``starter.library_policy``, installed before the notebook's first cell
+    (the kernel template and an IPython extension). What it reports is the kernel's word,
+    read by the grader as untrusted data.
+    """
+    import sys as _sys
+
+    recorder = _sys.modules.get("starter.library_policy")
+    try:
+        recorder.reset(namespace, function)
+    except Exception:  # noqa: BLE001 - no recorder: nothing is charged
+        return lambda: None
+
+    def violations():
+        try:
+            return [str(r)[:200] for r in recorder.violations(function)[:64]]
+        except Exception:  # noqa: BLE001
+            return None
+
+    return violations

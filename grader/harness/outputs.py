@@ -33,6 +33,9 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from starter.library_policy import OWN as POLICY
+from starter.library_policy import forbidden
+
 #: Largest ``.npz`` accepted from one function's collection.
 MAX_OUTPUT_BYTES = 256 * 2**20
 #: Largest ``.json`` record file (case records: errors, timings, output kinds).
@@ -49,6 +52,8 @@ MAX_ITEMS = 64
 #: Recorded callee calls (``grader.checks.callees``): per case, and elements read over one function's cases.
 MAX_CALLS = 200
 RECORD_ELEMENTS = 2**23
+#: Entries of a records file's ``policy_violations`` read (the policy lists fewer routines per function).
+MAX_POLICY_VIOLATIONS = 64
 
 
 class OutputError(ValueError):
@@ -93,6 +98,8 @@ class Collected:
     function: str
     cases: list[CaseOutput]
     peak_rss_bytes: int | None
+    #: library routines the course's policy forbids in ``function`` that the kernel saw it call
+    policy_violations: tuple[str, ...] = ()
 
 
 def element_count(value: Any) -> int:
@@ -229,6 +236,23 @@ def _rebuild(meta: Any, key: str, arrays: _Arrays, budget: int, depth: int = 0) 
     raise OutputError(f"unreadable output record {str(kind)[:40]!r}")
 
 
+def policy_violations(function: str, reported: Any) -> tuple[str, ...]:
+    """The routines of the library-call policy the kernel says ``function`` called, as the grader's own strings.
+
+    ``reported`` is hostile: only a list is read, only its first entries, and only names the
+    policy forbids in ``function`` are kept (the policy table's own strings, never the kernel's text).
+    """
+    if not isinstance(reported, list):
+        return ()
+    allowed = {r: r for r in forbidden(function)} if function in POLICY else {}
+    kept = []
+    for item in reported[:MAX_POLICY_VIOLATIONS]:
+        routine = allowed.get(item) if isinstance(item, str) else None
+        if routine is not None and routine not in kept:
+            kept.append(routine)
+    return tuple(kept)
+
+
 def _parse_records(data: bytes, n_cases: int) -> tuple[list, Any]:
     try:
         meta = json.loads(data.decode("utf-8"))
@@ -273,6 +297,7 @@ def read_outputs(function: str, directory: Path, n_cases: int, expected: list | 
     finally:
         os.close(folder)
     records, peak = _parse_records(records_bytes, n_cases)
+    violations = policy_violations(function, _reported_violations(records_bytes))
     arrays = _Arrays(arrays_bytes)
     cases = []
     room = [RECORD_ELEMENTS]
@@ -290,7 +315,13 @@ def read_outputs(function: str, directory: Path, n_cases: int, expected: list | 
             continue
         cases.append(CaseOutput(value, None, seconds, _recorded_calls(rec.get("calls"), i, arrays, room)))
     peak = _non_negative(peak)
-    return Collected(function, cases, None if peak is None else int(peak))
+    return Collected(function, cases, None if peak is None else int(peak), violations)
+
+
+def _reported_violations(data: bytes) -> Any:
+    """The records file's ``policy_violations`` entry (its records were already read: it parses)."""
+    meta = json.loads(data.decode("utf-8"))
+    return meta.get("policy_violations") if isinstance(meta, dict) else None
 
 
 def _non_negative(value: Any) -> float | None:

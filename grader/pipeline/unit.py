@@ -355,6 +355,7 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
                 "points": cell.points,
                 "score": round(cell.points * result.fraction, 4),
                 "summary": result.summary(),
+                "policy_violations": list(result.policy_violations),
                 "cases": [
                     {
                         "label": c.label,

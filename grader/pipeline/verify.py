@@ -13,7 +13,7 @@ from typing import Any
 
 import nbformat
 
-from grader.checks import FunctionResult, all_checks, evaluate, record_plan, seeded_cases
+from grader.checks import FunctionResult, all_checks, charge_policy, evaluate, record_plan, seeded_cases
 from grader.checks.base import Case
 from grader.harness.outputs import Collected, OutputError
 
@@ -70,4 +70,6 @@ def verify(function: str, seed: int, collected: Collected | None, failure: str |
         return FunctionResult(function, error=failure or "no outputs")
     if len(collected.cases) != len(cases):
         raise OutputError(f"{function}: {len(collected.cases)} outputs for {len(cases)} cases")
-    return evaluate(all_checks()[function], cases, collected.cases, expected, _seed(function, seed))
+    result = evaluate(all_checks()[function], cases, collected.cases, expected, _seed(function, seed))
+    # the library-call policy (starter/library_policy.py): a forbidden routine scores the function 0
+    return charge_policy(result, collected.policy_violations)

@@ -18,6 +18,7 @@ import numpy as np
 
 from grader.contract import is_bonus
 from grader.report.scores import late_students
+from starter.library_policy import OWN as POLICY
 from grader.pipeline import record
 from grader.spreadsheet import csv_text, read_csv
 from grader.pipeline.feedback import _png, template
@@ -65,6 +66,7 @@ class ClassReport:
     resources: list[dict] = field(default_factory=list)
     incidents: list[dict] = field(default_factory=list)
     late: list[dict] = field(default_factory=list)
+    policy: list[dict] = field(default_factory=list)
     n_students: int = 0
 
 
@@ -121,6 +123,7 @@ def summarize(results: list[dict], top_cases: int = 20) -> ClassReport:
             "function": fn, "case": label, "students_failed": len({s for s, _ in fails}),
             "example_message": anonymize(example, students)[:600], "distinct_messages": len(messages),
         })
+    report.policy = policy_violations(results)
     for r in results:
         if r["status"] in ("graded-with-incidents", "grader-error", "invalid"):
             report.incidents.append({
@@ -128,6 +131,26 @@ def summarize(results: list[dict], top_cases: int = 20) -> ClassReport:
                 "what": "; ".join(str(x) for x in (r.get("events") or []) + (r.get("reasons") or []))[:600],
             })
     return report
+
+
+def policy_violations(results: list[dict]) -> list[dict]:
+    """Per function and library routine the course's policy forbids there: the students whose function called it.
+
+    Only the policy's own routine names are counted (``starter/library_policy.py``).
+    """
+    from starter.library_policy import forbidden
+
+    found: dict[tuple, set] = defaultdict(set)
+    for r in results:
+        for t in r.get("tests", []):
+            allowed = set(forbidden(t["function"])) if t.get("function") in POLICY else set()
+            for routine in t.get("policy_violations") or []:
+                if routine in allowed:
+                    found[(r["notebook"], t["function"], routine)].add(r["student_id"])
+    return [
+        {"notebook": nb, "function": fn, "routine": routine, "students": len(ids), "student_ids": " ".join(sorted(ids))}
+        for (nb, fn, routine), ids in sorted(found.items())
+    ]
 
 
 def _figures(report: ClassReport, results: list[dict]) -> list[dict]:
@@ -185,7 +208,7 @@ def _figures(report: ClassReport, results: list[dict]) -> list[dict]:
     return pictures
 
 
-CSV_TABLES = ("notebooks", "functions", "cases", "resources", "incidents", "late")
+CSV_TABLES = ("notebooks", "functions", "cases", "resources", "incidents", "late", "policy")
 HEADERS = {
     "notebooks": ["notebook", "bonus", "students", "max_score", "mean", "median", "full_marks", "zero", "graded", "missing",
                   "invalid", "grader_error", "with_incidents"],
@@ -194,6 +217,7 @@ HEADERS = {
     "resources": ["notebook", "execution_s_median", "execution_s_max", "peak_rss_mib_median", "peak_rss_mib_max"],
     "incidents": ["student_id", "notebook", "status", "what"],
     "late": ["student_id", "hours_late", "late_days", "late_penalty"],
+    "policy": ["notebook", "function", "routine", "students", "student_ids"],
 }
 
 

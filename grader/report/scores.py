@@ -58,6 +58,9 @@ def class_summary(results: list[dict]) -> str:
     if len(students) <= MAX_STUDENT_ROWS:
         parts += [score_table(results, students, notebooks), ""]
     parts.append(notebook_stats(results, notebooks))
+    banned = policy_lines(results)
+    if banned:
+        parts += ["", *banned]
     return "\n".join(parts)
 
 
@@ -75,3 +78,11 @@ def late_students(rows: list[dict]) -> list[dict]:
                                                     "late_days": int(row.get("late_days") or 0), "late_penalty": 0.0})
         entry["late_penalty"] = round(entry["late_penalty"] + float(row.get("late_penalty") or 0), 4)
     return sorted(late.values(), key=lambda e: (-e["hours_late"], e["student_id"]))
+
+
+def policy_lines(results: list[dict]) -> list[str]:
+    """One line per function and routine the library policy forbids there that students called (the report lists who)."""
+    from grader.report.class_report import policy_violations
+
+    rows = policy_violations(results)
+    return [f"library policy: {r['function']} called {r['routine']} in {r['students']} notebook(s), scored 0" for r in rows]

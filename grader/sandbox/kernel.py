@@ -60,6 +60,8 @@ _SOCKETS_TIMEOUT = 60.0
 _READY_ATTEMPT = 1.0
 # How a fresh kernel is started; its arguments follow.
 _KERNEL_LAUNCHER = [sys.executable, "-m", "ipykernel_launcher"]
+#: the IPython extension every grading kernel loads before any cell (``starter/library_policy.py``)
+POLICY_EXTENSION = "starter.library_policy"
 
 
 class _PendingFork(NamedTuple):
@@ -197,7 +199,10 @@ class SandboxedKernelManager(KernelManager):
             # size-capped /tmp would otherwise get sqlite warnings in their output.
             # No 0.5 ms sleep before each execute_reply: ipykernel keeps it for front ends that
             # stop at the reply, but nbclient reads outputs until the kernel says it is idle.
-            argv=[*_KERNEL_LAUNCHER, "-f", "{connection_file}", "--HistoryManager.enabled=False", "--IPythonKernel._execute_sleep=0"],
+            # The library-call policy's recorder is an IPython extension: loaded before the first
+            # cell whether the kernel is forked from the template (which installed it already) or fresh.
+            argv=[*_KERNEL_LAUNCHER, "-f", "{connection_file}", "--HistoryManager.enabled=False", "--IPythonKernel._execute_sleep=0",
+                  f"--IPKernelApp.extensions={POLICY_EXTENSION}"],
             display_name="Python 3 (sandboxed)",
             language="python",
             interrupt_mode="message",

@@ -67,18 +67,24 @@ import scipy.sparse.csgraph  # noqa: E402
 import scipy.sparse.linalg  # noqa: E402
 import scipy.spatial  # noqa: E402
 import starter  # noqa: E402
+import starter.library_policy  # noqa: E402
 import starter.posing  # noqa: E402
 
 # what the notebooks import, in memory before the first fork: the course's starter package too
 # (20 ms a unit; it draws nothing and imports neither pyvista nor matplotlib until asked to)
 PRELOADED = (igl, ipykernel.kernelapp, numpy, scipy.linalg, scipy.sparse, scipy.sparse.csgraph, scipy.sparse.linalg,
-             scipy.spatial, starter, starter.posing)
+             scipy.spatial, starter, starter.library_policy, starter.posing)
 # and what the kernel imports as it starts (a started kernel's modules less these)
 for _name in (
     "IPython.core.completerlib", "IPython.core.debugger", "IPython.core.logger", "IPython.core.oinspect",
     "IPython.extensions.storemagic", "ipykernel.debugger", "tornado.platform.asyncio", "tornado.queues",
 ):
     importlib.import_module(_name)
+
+# The library-call policy wraps its routines before any kernel exists: every fork inherits the
+# wrappers, so aliases a student takes later are wrappers too (each kernel loads it again as an
+# IPython extension, which only points it at that kernel's namespace).
+starter.library_policy.install({})
 
 sys.meta_path.remove(_NoDebugger)
 # ipykernel must not find it later either

@@ -256,7 +256,7 @@ assert _C.shape == (len(_F), 3) and np.isfinite(_C).all(), f"expected finite wei
 # Collecting the weights per edge gives the (sparse, symmetric) cotangent
 # Laplacian: $L_{jk} = \sum_{T \ni (j,k)} c^T_{jk}$ for every edge $(j, k)$, and
 # $L_{jj} = -\sum_{k \ne j} L_{jk}$, so every row sums to zero. With this sign
-# convention (libigl's `igl.cotmatrix`), $-L$ is the finite-element stiffness
+# convention (libigl's), $-L$ is the finite-element stiffness
 # matrix of §2: $f^\top(-L)f = \int \|\nabla f\|^2 \ge 0$, and
 #
 # $$

@@ -82,8 +82,8 @@ rng = np.random.default_rng(5)
 #
 # (We call it $A$: in stage 04, $M$ is the mass matrix.)
 #
-# **Your task.** `lbs_matrix(V, W)` returns $A$ (as a dense array; it equals
-# `igl.lbs_matrix(V, W)`). Build it with broadcasting: an `(n, m, d+1)` array of
+# **Your task.** `lbs_matrix(V, W)` returns $A$ (as a dense array). Build it
+# with broadcasting: an `(n, m, d+1)` array of
 # the products $w_{ij}[v_i;1]_c$ reshaped to `(n, m(d+1))`.
 
 # %% deformlab={"solution": "lbs_matrix"}
@@ -103,8 +103,7 @@ def lbs_matrix(V, W):
     Returns
     -------
     A : (n, m(d+1)) numpy.ndarray
-        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``
-        (it equals ``igl.lbs_matrix(V, W)``).
+        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
     """
     ### BEGIN SOLUTION
     V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)

@@ -206,8 +206,7 @@ def lbs_matrix(V, W):
     Returns
     -------
     A : (n, m(d+1)) numpy.ndarray
-        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``
-        (it equals ``igl.lbs_matrix(V, W)``).
+        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
     """
     ### BEGIN SOLUTION
     V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)

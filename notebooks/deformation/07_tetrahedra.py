@@ -157,7 +157,7 @@ assert np.isclose(_vol.sum(), 4.0) and _vol.min() > 0, (
 # weights: $-|\operatorname{vol}|\,\nabla\varphi_i\cdot\nabla\varphi_j = \tfrac16\, \ell_{kl} \cot\theta_{kl}$,
 # the length of the **opposite edge** $kl$ times the cotangent of the
 # **dihedral angle** there (the 2D formula had the opposite *angle*). As in 2D
-# they can be negative, the rows sum to zero, and $L$ equals `igl.cotmatrix(V, T)`.
+# they can be negative and the rows sum to zero.
 #
 # **Your task.** `tet_cotangent_laplacian(V, T)`: compute the gradients of all
 # tetrahedra at once (`np.linalg.inv` works on a stack), the `(f, 4, 4)` local
@@ -180,7 +180,7 @@ def tet_cotangent_laplacian(V, T):
     Returns
     -------
     L : (n, n) scipy.sparse matrix
-        ``L[i, j] = -Σ_t |vol_t| ∇φ_i · ∇φ_j``; rows sum to zero (``igl.cotmatrix``).
+        ``L[i, j] = -Σ_t |vol_t| ∇φ_i · ∇φ_j``; rows sum to zero.
     """
     ### BEGIN SOLUTION
     V, T = np.asarray(V, dtype=float), np.asarray(T)

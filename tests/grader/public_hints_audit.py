@@ -22,6 +22,7 @@ import sys
 from pathlib import Path
 
 from grader.build.authored import read_authored
+from grader.build.source_notebook import with_policy_check
 from grader.corpus import load_entry
 from grader.pipeline.sanitize import _calls_contract_at_top_level
 
@@ -92,6 +93,10 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
 }
 
 
+# a library-policy entry's hint is the policy's own message (starter.library_policy.message)
+HINTS.update({path.stem: (("LIBRARY_POLICY.md",),) for path in BUGGY.glob("policy_*.py")})
+
+
 def public_failures(notebook: str, solutions: dict[str, str], functions: set[str]) -> dict[str, str]:
     """First failing public assertion of each of ``functions``' tests cells ("" if it passes).
 
@@ -99,6 +104,9 @@ def public_failures(notebook: str, solutions: dict[str, str], functions: set[str
     Every tests cell runs, in order, as the student runs them (a later one may read an earlier one's names).
     """
     os.environ["DEFORMLAB_NO_PLOTS"] = "1"
+    from starter import library_policy
+
+    library_policy.install()  # as the notebook's provided cell does, before any solution cell
     namespace: dict = {}
     found: dict[str, str] = {}
     for cell in read_authored(NOTEBOOKS / f"{notebook}.py").cells:
@@ -107,8 +115,8 @@ def public_failures(notebook: str, solutions: dict[str, str], functions: set[str
         elif cell.kind == "solution":
             exec(compile(solutions.get(cell.function, cell.source), notebook, "exec"), namespace)
         elif cell.kind == "tests":
-            try:
-                exec(compile(cell.source, notebook, "exec"), namespace)
+            try:  # as built: between the library policy's watch and verdict
+                exec(compile(with_policy_check(cell.function, cell.source), notebook, "exec"), namespace)
                 message = ""
             except Exception as exc:  # noqa: BLE001 - a crash is what the student sees too
                 message = str(exc) if isinstance(exc, AssertionError) else f"{type(exc).__name__}: {exc}"

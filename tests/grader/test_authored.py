@@ -42,7 +42,7 @@ def test_the_solution_cell_is_the_teaching_code_and_its_body_is_what_the_release
     solution = next(c for c in nb.cells if c.kind == "solution")
     assert solution.source.strip() == CENTROID.split("\n", 1)[1].strip()
     assert solution_body(solution.source).strip() == "return np.mean(P, axis=0)"
-    cell = build_source_notebook(nb).cells[2]
+    cell = build_source_notebook(nb).cells[4]  # after the text, the policy's section and its cell, the provided cell
     assert cell.source == solution.source and cell.metadata["nbgrader"]["grade_id"] == "solution_centroid"
 
 
@@ -101,8 +101,22 @@ def test_broken_rules_are_refused_with_a_message_naming_them(tmp_path, body, mes
 def test_a_function_of_an_earlier_stage_is_checked_but_not_graded_again(tmp_path):
     public = CENTROID + '\n# %% deformlab={"tests": "centroid"}\nassert centroid(np.ones((3, 2))).shape == (2,)\n'
     nb = build_source_notebook(read_authored(write(tmp_path, public, "02_sign_correction")))
-    check = nb.cells[3].metadata["nbgrader"]
+    check = nb.cells[5].metadata["nbgrader"]
     assert check == {"grade": False, "grade_id": "public_check_centroid", "locked": True, "schema_version": 3, "solution": False}
-    assert "HIDDEN" not in nb.cells[3].source
+    assert "HIDDEN" not in nb.cells[5].source
     with pytest.raises(AuthoringError, match="graded in 01_shape_matching"):
         read_authored(write(tmp_path, CENTROID + CENTROID_TESTS, "02_sign_correction"))
+
+
+def test_the_library_policy_follows_the_first_text_and_every_tests_cell_checks_it(tmp_path):
+    from starter.library_policy import markdown
+
+    nb = build_source_notebook(read_authored(write(tmp_path, CENTROID + CENTROID_TESTS)))
+    assert nb.cells[1].source == markdown(["centroid"])
+    assert "library_policy.install()" in nb.cells[2].source and nb.cells[2].metadata["nbgrader"]["locked"]
+    tests = next(c for c in nb.cells if c.metadata.get("nbgrader", {}).get("grade_id") == "test_centroid")
+    public = tests.source.split("### BEGIN HIDDEN TESTS")[0].strip().splitlines()
+    assert public[2] == "_library_policy.watch('centroid')  # the library policy: routines it may not use"
+    assert public[-1] == "_library_policy.verdict('centroid')"
+    other = build_source_notebook(read_authored(write(tmp_path, CENTROID + CENTROID_TESTS, "10_other")))
+    assert other.cells[2].metadata["nbgrader"]["grade_id"] != nb.cells[2].metadata["nbgrader"]["grade_id"]

@@ -92,6 +92,7 @@ def test_the_bundle_ships_the_demo_without_outputs_next_to_starter_with_its_requ
     assert "deformlab" not in nb.metadata and nb.metadata["kernelspec"]["name"] == "python3"
     assert scan_for_leaks({f"{DEMO}.ipynb": nbformat.writes(nb)}) == []
     assert "ipywidgets" in requirements and f"{DEMO}.ipynb" in readme
+    assert "LIBRARY_POLICY.md" in readme and "deformation/LIBRARY_POLICY.md" in names
 
 
 def test_the_demo_check_reports_a_failing_cell_and_missing_widget_and_animation(tmp_path, monkeypatch):

@@ -1,7 +1,7 @@
 NOTEBOOK = "07_tetrahedra"
 DESCRIPTION = (
     "tet_cotangent_laplacian() from the dihedral-angle formula l cot θ / 6 with loops into a dense matrix; "
-    "tet_arap_rotations() by scipy's polar decomposition, the SVD only for reflections; volumes by the triple product; "
+    "tet_arap_rotations() by Newton's polar iteration written out (scipy's polar is a forbidden shortcut there: tests/corpus/buggy/policy_tet_arap_rotations.py), the SVD only for reflections and flat tetrahedra; volumes by the triple product; "
     "the tet ARAP global step as Gᵀ W vec(R) with a sparse (3f, n) gradient operator G built in a loop, data in a dict"
 )
 SOLUTIONS = {
@@ -34,16 +34,28 @@ def tet_cotangent_laplacian(V, T):
     return L - np.diag(L.sum(axis=1))
 ''',
     "tet_arap_rotations": '''import numpy as np
-from scipy.linalg import polar
 
 
 def tet_arap_rotations(V, U, T):
     J = deformation_gradients(V, U, T)
-    R = np.stack([polar(j)[0] for j in J])
-    bad = np.linalg.det(R) < 0
-    X, _, Yt = np.linalg.svd(J[bad])
-    X[:, :, 2] *= -1
-    R[bad] = X @ Yt
+    R = np.empty_like(J)
+    # det J > 0: Newton's iteration for the polar factor, X <- (g X + X^-T / g) / 2 with
+    # Higham's scaling g, converges to the rotation nearest to J
+    good = np.linalg.det(J) > 1e-9 * np.linalg.norm(J, axis=(1, 2)) ** 3
+    X = J[good]
+    for _ in range(60):
+        inverse_t = np.linalg.inv(X).transpose(0, 2, 1)
+        g = np.sqrt(np.linalg.norm(inverse_t, axis=(1, 2)) / np.linalg.norm(X, axis=(1, 2)))[:, None, None]
+        new = 0.5 * (g * X + inverse_t / g)
+        done = np.abs(new - X).max(initial=0.0) < 1e-15
+        X = new
+        if done:
+            break
+    R[good] = X
+    # reflections and flat tetrahedra: the SVD, the last axis flipped where needed
+    A, _, Bt = np.linalg.svd(J[~good])
+    A[:, :, 2] *= np.sign(np.linalg.det(A @ Bt))[:, None]
+    R[~good] = A @ Bt
     return R
 ''',
     "tet_arap_precompute": '''import numpy as np
