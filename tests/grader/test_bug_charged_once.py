@@ -100,7 +100,7 @@ def grade(function: str, namespace: dict, tmp_path):
     """Collect ``function`` in ``namespace`` as grading does, read the outputs back and verify them."""
     cases, expected = hidden_cases(function, SEED)
     write_fixtures(function, cases, tmp_path / "fixtures", recording(function, SEED))
-    (tmp_path / "outputs").mkdir()
+    (tmp_path / "outputs").mkdir(parents=True)
     namespace["__deformlab_collect__"](function, str(tmp_path / "fixtures"), str(tmp_path / "outputs"))
     collected = read_outputs(function, tmp_path / "outputs", len(cases), expected)
     return verify(function, SEED, collected, None), collected
@@ -251,3 +251,35 @@ def test_every_call_between_course_functions_has_a_corpus_bug_charged_to_the_cal
         )
     ]
     assert not missing, "no corpus entry shows these callers keeping their points beside a buggy callee:\n" + "\n".join(missing)
+
+
+LAPLACIAN_BY_IGL = '''
+import igl
+
+
+def cotangent_laplacian(V, F):
+    return igl.cotmatrix(V, F)
+'''
+
+BIHARMONIC_FROM_LAPLACIAN = '''
+import igl
+import scipy.sparse as sp
+
+
+def biharmonic_matrix(V, F):
+    L = cotangent_laplacian(V, F)
+    return L @ sp.diags(1.0 / igl.massmatrix(V, F).diagonal()) @ L
+'''
+
+
+def test_a_forbidden_call_in_a_recorded_callee_is_charged_to_the_callee_alone(tmp_path):
+    """The recorders the collector puts around callees do not hide the student's own frames from the library policy."""
+    from starter import library_policy
+
+    library_policy.install()
+    namespace = student(LAPLACIAN_BY_IGL, BIHARMONIC_FROM_LAPLACIAN)
+    callee, _ = grade("cotangent_laplacian", namespace, tmp_path / "callee")
+    caller, collected = grade("biharmonic_matrix", namespace, tmp_path / "caller")
+    assert callee.policy_violations == ("igl.cotmatrix",) and callee.fraction == 0.0
+    assert caller.policy_violations == () and caller.fraction == 1.0
+    assert any(call.name == "cotangent_laplacian" for c in collected.cases for call in c.calls)
