@@ -281,13 +281,22 @@ def arap_precompute(V, F, handles):
             f"handles must include a vertex of every connected component of the mesh: "
             f"the component of vertex {vertex} has none, so its position is undetermined"
         )
-    C = cotangent_weights(V, F)
-    L = cotangent_laplacian(V, F)
+    return _precomputed(V, F, handles, cotangent_weights(V, F), cotangent_laplacian(V, F))
+
+
+def _precomputed(V, F, handles, C, L, factor=None):
+    """``arap_precompute``'s object for checked ``V``, ``F``, ``handles``, from corner weights ``C`` and Laplacian ``L``.
+
+    ``factor(A)`` factors ``-L_ff`` (default :class:`SparseCholesky`; the grader passes an LU
+    when it reruns a student's caller on the student's own, possibly indefinite, Laplacian).
+    """
+    n, d = V.shape
+    L = sp.csr_matrix(L)
     is_free = np.ones(n, dtype=bool)
     is_free[handles] = False
     free = np.flatnonzero(is_free)
     L_free = L[free]
-    solver = SparseCholesky(-L_free[:, free]) if free.size else None
+    solver = (factor or SparseCholesky)(-L_free[:, free]) if free.size else None
     E = V[np.roll(F, -1, axis=1)] - V[np.roll(F, -2, axis=1)]
     weighted = C[:, :, None] * E
     P = np.roll(weighted, 1, axis=1) - np.roll(weighted, -1, axis=1)
