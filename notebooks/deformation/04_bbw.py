@@ -605,6 +605,23 @@ assert _E < 0.99 * _E_clipped, (
     f"the bounded weights must minimize ½ wᵀQw: their energy {_E:.6g} is not below that of the clipped "
     f"unconstrained weights, {_E_clipped:.6g} (clipping is feasible but not optimal: solve the bounded problem)"
 )
+# The minimizer's optimality conditions (KKT): the gradient g = Q w at the free vertices is >= 0
+# where w = 0, <= 0 where w = 1 and 0 in between. A negative g_i means raising w_i lowers the energy,
+# a positive one lowering it; w_i may only sit at the bound that blocks that move.
+_free = np.setdiff1d(np.arange(len(_V)), _b)
+_g, _wf = (_Q @ _w)[_free], _w[_free]
+_tol = 1e-3 * np.abs(_Q @ _w).max()
+_wrong = ((_g < -_tol) & (_wf < 1 - 1e-6)) | ((_g > _tol) & (_wf > 1e-6))
+if _wrong.any():
+    _i = np.flatnonzero(_wrong)[np.abs(_g[_wrong]).argmax()]
+    _where = "w = 0" if _wf[_i] <= 1e-6 else "w = 1" if _wf[_i] >= 1 - 1e-6 else f"w = {_wf[_i]:.4f}"
+    raise AssertionError(
+        f"vertex {_free[_i]} has {_where} but the gradient (Q w)_i = {_g[_i]:.4g}: the weights do not minimize "
+        "½ wᵀQw (at the minimum (Q w)_i ≥ 0 where w = 0, ≤ 0 where w = 1, and 0 in between)"
+        + (": an active-set loop must also release a held value whose gradient points back into [0, 1]"
+           if _wf[_i] <= 1e-6 or _wf[_i] >= 1 - 1e-6 else
+           ": is each handle's problem solved with both bounds, 0 ≤ w ≤ 1, before the rows are normalized?")
+    )
 
 # %% [markdown]
 # ## 7 · Comparing the weights

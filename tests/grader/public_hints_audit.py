@@ -33,9 +33,9 @@ TIMEOUT = 300
 #: entry -> words its public tests' message must contain (one of each tuple). Entries missing here
 #: have no hint yet; the comment says why.
 HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
+    "bbw_active_set_never_releases": (("release a held value",),),
     "bbw_clip_unconstrained": (("clipping is feasible but not optimal",),),
-    # bbw_no_upper_bound: non-negative weights normalized to sum 1 are <= 1 anyway; only the energy
-    # tells, by 0.5-3.5 %, and the public tests have no oracle to compare it with
+    "bbw_no_upper_bound": (("0 ≤ w ≤ 1",),),
     "bbw_not_normalized": (("normalize",),),
     "biharmonic_without_mass": (("M⁻¹ is missing",),),
     "boundary_directed_half_edges": (("oriented alike",),),
@@ -78,6 +78,7 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "rotation_transposed_in_arap": (("transposed",),),
     "sign_flip_largest": (("smallest singular value",),),
     "sign_from_det_of_s": (("det(S) = 0 says nothing",),),
+    "sign_from_det_of_s_zero_as_positive": (("det(S) = 0 says nothing",), ("which is -1 here",)),
     "solve_energy_before_global": (("rotations the global step used",),),
     "solve_keeps_u0_handles": (("before the first local step",),),
     "translation_between_centroids": (("q̄ - R p̄",),),
