@@ -160,14 +160,13 @@ _L = sp.csr_matrix(cotangent_laplacian(_V, _F))
 assert abs(_L - _L.T).max() < 1e-12, "L must be symmetric"
 _rows = np.abs(np.asarray(_L.sum(axis=1))).ravel()
 assert _rows.max() < 1e-10, f"every row of L must sum to 0; row {_rows.argmax()} sums to {_rows.max():.3e}"
-# Linear precision: L applied to the coordinates vanishes away from the boundary.
-_e = np.sort(_F[:, [[1, 2], [2, 0], [0, 1]]].reshape(-1, 2), axis=1)
-_u, _count = np.unique(_e, axis=0, return_counts=True)
-_inner = np.setdiff1d(np.arange(len(_V)), _u[_count == 1].ravel())
-_LV = np.abs(_L @ _V)[_inner].max(axis=1)
-assert _LV.max() < 1e-9, (
-    f"L applied to the (linear) coordinates must vanish at interior vertices; at vertex "
-    f"{_inner[_LV.argmax()]} it is {_LV.max():.3e}"
+# Linear functions are exact: for f = V a, -fᵀ L f is the integral of ‖∇f‖² = ‖a‖² × area.
+_e1, _e2 = _V[_F[:, 1]] - _V[_F[:, 0]], _V[_F[:, 2]] - _V[_F[:, 0]]
+_area = np.sum(0.5 * np.abs(_e1[:, 0] * _e2[:, 1] - _e1[:, 1] * _e2[:, 0]))
+_f = _V @ np.array([1.0, -0.5])
+assert np.isclose(-_f @ (_L @ _f), 1.25 * _area, rtol=1e-9), (
+    f"for the linear function f = x - y/2, -fᵀ L f must be ∫‖∇f‖² = 1.25 × area = {1.25 * _area:.10g}, "
+    f"got {-_f @ (_L @ _f):.10g}"
 )
 
 # %% [markdown]
