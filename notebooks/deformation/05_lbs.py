@@ -516,6 +516,8 @@ def dual_quaternions(T):
     T = np.asarray(T, dtype=float)
     Q = np.zeros((len(T), 2, 4))
     for j, (R, t) in enumerate(zip(T[:, :, :3], T[:, :, 3])):
+        if np.abs(R.T @ R - np.eye(3)).max() > 1e-6 or np.linalg.det(R) < 0:
+            raise ValueError(f"T[{j}]: the 3x3 part R is no rotation (RᵀR = I and det R = +1 are needed)")
         tr = np.trace(R)
         # P[a, b] = 4 q_a q_b for q = (w, x, y, z): the identities between R and q
         P = np.array([
@@ -591,6 +593,17 @@ assert np.allclose(_Q[:, 1], _right, atol=1e-10), (
     "q_e must be ½ (0, t) q_0, with the same sign as q_0"
     + (": you computed ½ q_0 (0, t); quaternion products do not commute" if np.allclose(_Q[:, 1], _left, atol=1e-10) else "")
 )
+# A transform that is not rigid has no dual quaternion: the contract asks for a ValueError naming T[j].
+for _bad, _why in ((1.5 * np.eye(3), "a rotation scaled by 1.5"), (np.diag([1.0, 1.0, -1.0]), "a reflection (det -1)")):
+    try:
+        dual_quaternions(np.stack([np.eye(3, 4), np.c_[_bad, np.ones(3)]]))
+    except ValueError:
+        pass
+    except Exception as _exc:  # noqa: BLE001 - any other error is not the one asked for
+        raise AssertionError(f"T[1]'s 3x3 part is {_why}: expected a ValueError, got {type(_exc).__name__}: {_exc}") from None
+    else:
+        raise AssertionError(f"T[1]'s 3x3 part is {_why}, not a rotation: raise a ValueError naming T[1] "
+                             "(check RᵀR = I and det R = +1 to 1e-6)")
 
 # %% [markdown]
 # **Your task.** `dual_quaternion_transforms(Q)` goes back: for each dual

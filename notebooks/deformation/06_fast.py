@@ -488,6 +488,22 @@ for _bad, _why in (
         pass
     else:
         raise AssertionError(f"fast_precompute must raise ValueError for fixed = {_bad.tolist()}: {_why}")
+# Free transforms the energy cannot determine: the contract asks for a ValueError here too.
+for _args, _why in (
+    ((np.c_[_V, np.zeros(len(_V))], _F, _W, _clusters, np.array([3, 4])),
+     "the character put into the plane z = 0 of 3D (a planar mesh in 3D: how a free transform maps the plane's "
+     "normal moves no vertex)"),
+    ((_V, _F, np.c_[_W, np.zeros(len(_V))], _clusters, np.array([3, 4])),
+     "a sixth handle whose weight column is zero (a vanishing column: its transform moves no vertex)"),
+):
+    try:
+        fast_precompute(*_args)
+    except Exception as _exc:  # noqa: BLE001 - only a plain ValueError is the error asked for
+        if type(_exc) is not ValueError:  # e.g. numpy's LinAlgError (a ValueError) from a failed factorization
+            raise AssertionError(f"{_why}: expected a ValueError that says why, got {type(_exc).__name__}: {_exc} "
+                                 "(check that Q_ff is positive definite before factoring it)") from None
+    else:
+        raise AssertionError(f"fast_precompute must raise ValueError for {_why}: check that Q_ff is positive definite")
 
 # %% deformlab={"solution": "fast_energy"}
 import numpy as np
