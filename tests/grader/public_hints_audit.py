@@ -30,8 +30,8 @@ NOTEBOOKS = ROOT / "notebooks" / "deformation"
 BUGGY = ROOT / "tests" / "corpus" / "buggy"
 TIMEOUT = 300
 
-#: entry -> words its public tests' message must contain (one of each tuple). Entries missing here
-#: have no hint yet; the comment says why.
+#: entry -> words its public tests' message must contain (one of each tuple); every buggy entry has one
+#: (tests/grader/test_public_hints.py).
 HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "bbw_active_set_never_releases": (("release a held value",),),
     "bbw_clip_unconstrained": (("clipping is feasible but not optimal",),),
@@ -123,6 +123,12 @@ def public_failures(notebook: str, solutions: dict[str, str], functions: set[str
     return found
 
 
+def hinted(name: str, messages: dict[str, str]) -> list[str]:
+    """The functions whose first failing public assertion holds entry ``name``'s ``HINTS``."""
+    words = HINTS.get(name)
+    return [f for f, m in messages.items() if m and words and all(any(w in m for w in group) for group in words)]
+
+
 def _audit_one(path: Path) -> dict:
     entry = load_entry(path)
     return public_failures(entry.notebook, entry.solutions, set(entry.solutions) | set(entry.loses))
@@ -147,12 +153,11 @@ def main(argv: list[str]) -> int:
             print(f"{entry.name:<42} ?       {why}")
             missing += 1
             continue
-        words = HINTS.get(entry.name)
         failed = {f: m for f, m in messages.items() if m}
-        hinted = [f for f, m in failed.items() if words and all(any(w in m for w in group) for group in words)]
-        missing += not hinted
-        status = "ok" if hinted else ("PASSES" if not failed else "NO HINT")
-        function = hinted[0] if hinted else next(iter(failed), ", ".join(entry.solutions))
+        found = hinted(entry.name, messages)
+        missing += not found
+        status = "ok" if found else ("PASSES" if not failed else "NO HINT")
+        function = found[0] if found else next(iter(failed), ", ".join(entry.solutions))
         print(f"{entry.name:<42} {status:<7} {function}: {failed.get(function, '')[:300]!r}")
     print(f"{len(paths)} entries, {missing} without a hint")
     return 1 if missing else 0
