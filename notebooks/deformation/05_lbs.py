@@ -55,7 +55,6 @@ import time
 import igl
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from starter import load_handles, load_mesh, plotting, shapes
 from starter.posing import CHARACTER_PARENTS, bone_joints, bone_transforms
@@ -260,16 +259,10 @@ assert _err.max() < 1e-10, f"a vertex with a one-hot weight row must follow its 
 
 # %%
 def harmonic_weights(V, F, handle_sets):
-    """Harmonic weights, one column per handle vertex set (w = 1 on the set, 0 on the other sets)."""
-    L = igl.cotmatrix(V, F).tocsr()
+    """Harmonic weights, one column per handle vertex set (w = 1 on the set, 0 on the other sets), by libigl."""
     b = np.concatenate(handle_sets)
     owner = np.repeat(np.arange(len(handle_sets)), [len(h) for h in handle_sets])
-    bc = np.eye(len(handle_sets))[owner]
-    free = np.setdiff1d(np.arange(len(V)), b)
-    W = np.zeros((len(V), len(handle_sets)))
-    W[b] = bc
-    W[free] = spla.spsolve(L[free][:, free].tocsc(), -(L[free][:, b] @ bc))
-    return W
+    return igl.harmonic(V, F, b, np.eye(len(handle_sets))[owner], 1)
 
 
 V, F = load_mesh("character")

@@ -234,8 +234,9 @@ _V, _F = load_mesh("character")
 _W = rng.uniform(size=(len(_V), 3))
 _A = lbs_matrix(_V, _W)
 assert _A.shape == (len(_V), 9), f"for m = 3 handles in 2D expected shape {(len(_V), 9)}, got {np.shape(_A)}"
-_T = rng.normal(size=(3, 2, 3))
-_owner = rng.integers(3, size=len(_V))
+_draw = np.random.default_rng(11)  # its own generator: later cells' data stay as they were
+_T = _draw.normal(size=(3, 2, 3))
+_owner = _draw.integers(3, size=len(_V))
 _U = lbs_matrix(_V, np.eye(3)[_owner]) @ _T.transpose(0, 2, 1).reshape(-1, 2)
 assert np.allclose(_U, np.einsum("iab,ib->ia", _T[_owner, :, :2], _V) + _T[_owner, :, 2]), (
     "with one-hot weight rows, A @ vstack(T_jᵀ) must move each vertex by its own handle's transform"
@@ -331,8 +332,10 @@ assert np.array_equal(rotation_clusters(_W, 3, seed=1), rotation_clusters(_W, 3,
 
 
 def _is_fixed_point(W, labels):
+    from scipy.spatial.distance import cdist
+
     centres = np.array([W[labels == c].mean(axis=0) for c in range(labels.max() + 1)])
-    d2 = ((W[:, None, :] - centres[None]) ** 2).sum(axis=2)
+    d2 = cdist(W, centres, "sqeuclidean")  # squared distance of every row to every cluster's mean
     return np.all(d2[np.arange(len(W)), labels] <= d2.min(axis=1) + 1e-12)
 
 
