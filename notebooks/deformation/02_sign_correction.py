@@ -94,6 +94,7 @@ _w = np.array([1.0, 3.0, 0.0, 0.0])
 _c = centroid(_P, 10 * _w)
 assert np.allclose(_c, [3.0, 0.0]), (
     f"weights {(10 * _w).tolist()}: expected (10·[0, 0] + 30·[4, 0]) / 40 = [3, 0], got {_c}"
+    + (": the weights are ignored" if np.allclose(_c, [2.0, 1.0]) else "")
 )
 
 # %% [markdown]
@@ -133,6 +134,8 @@ _Q = _P @ rotation_2d(np.pi / 2).T
 _S = covariance_matrix(_P + [5.0, -1.0], _Q + [10.0, 3.0])
 assert np.shape(_S) == (2, 2) and np.allclose(_S, [[0.0, 2.0], [-8.0, 0.0]]), (
     f"P turned by 90 degrees, then P and Q translated: expected S = [[0, 2], [-8, 0]], got {np.round(_S, 6).tolist()}"
+    + (": translating P and Q changed S, subtract the centroids before multiplying"
+       if np.allclose(covariance_matrix(_P, _Q), [[0.0, 2.0], [-8.0, 0.0]]) else "")
 )
 _w = np.array([2.0, 0.0, 2.0, 0.0])
 _S = covariance_matrix(_P, _Q, _w)

@@ -138,6 +138,14 @@ for _ in range(20):
 _S = _rot2(0.7) @ np.diag([3.0, 1.0])
 assert np.allclose(optimal_rotation(_S), _rot2(-0.7)), "for S = R(0.7)·diag(3, 1) the best rotation is R(-0.7)"
 
+# A singular S (coplanar points): det(S) = 0, yet the best rotation is B for S = diag(3, 0, 2) Bᵀ.
+_B = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])  # a rotation
+_R = optimal_rotation(np.diag([3.0, 0.0, 2.0]) @ _B.T)
+assert np.allclose(_R, _B, atol=1e-10), (
+    f"S = diag(3, 0, 2) Bᵀ (B a rotation) is singular and its best rotation is B; got R with det {np.linalg.det(_R):.6f}"
+    + (": det(S) = 0 says nothing about the sign; take it from det(Ṽ Ũᵀ)" if abs(np.linalg.det(_R) - 1) > 1e-8 else "")
+)
+
 # %% [markdown]
 # ## 2 · Cotangent weights
 #

@@ -106,6 +106,7 @@ assert _C.shape == (1, 3), f"C must have one row per triangle and one column per
 assert np.allclose(_C, [[0.0, 1.0, 0.25]]), (
     f"for the triangle (0,0), (2,0), (0,1) expected C = [[0, 1, 0.25]] (½cot of the angle at "
     f"corners 0, 1, 2), got {np.round(_C, 6).tolist()}"
+    + (": that is cot, not ½cot" if np.allclose(_C, [[0.0, 2.0, 0.5]]) else "")
 )
 assert np.allclose(cotangent_weights(_V, _F[:, ::-1]), _C[:, ::-1]), (
     "a clockwise triangle must get the same weights at the same corners (use |a × b|)"
@@ -154,6 +155,8 @@ assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name_
 _expected = np.array([[-1.25, 0.25, 1.0], [0.25, -0.25, 0.0], [1.0, 0.0, -1.0]])
 assert np.allclose(_L.toarray(), _expected), (
     f"for the triangle (0,0), (2,0), (0,1) expected L =\n{_expected}\ngot\n{np.round(_L.toarray(), 6)}"
+    + ("\nthe diagonal has the wrong sign: L_ii = -Σ_j L_ij, so that every row sums to zero"
+       if np.allclose(_L.toarray(), np.abs(_expected)) else "")
 )
 _V, _F = load_mesh("character")
 _L = sp.csr_matrix(cotangent_laplacian(_V, _F))

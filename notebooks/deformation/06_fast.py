@@ -103,6 +103,13 @@ assert np.allclose(np.linalg.det(_R), 1.0), "every R must have det +1"
 assert np.isclose(np.trace(optimal_rotation(np.diag([1.0, 2.0, -3.0])) @ np.diag([1.0, 2.0, -3.0])), 4.0), (
     "for S = diag(1, 2, -3) the best rotation gives tr(R S) = 4"
 )
+# A singular S (coplanar points): det(S) = 0, yet the best rotation is B for S = diag(3, 0, 2) Bᵀ.
+_B = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])  # a rotation
+_R = optimal_rotation(np.diag([3.0, 0.0, 2.0]) @ _B.T)
+assert np.allclose(_R, _B, atol=1e-10), (
+    f"S = diag(3, 0, 2) Bᵀ (B a rotation) is singular and its best rotation is B; got R with det {np.linalg.det(_R):.6f}"
+    + (": det(S) = 0 says nothing about the sign; take it from det(Ṽ Ũᵀ)" if abs(np.linalg.det(_R) - 1) > 1e-8 else "")
+)
 
 # %% deformlab={"solution": "cotangent_weights"}
 import numpy as np
@@ -144,6 +151,7 @@ def cotangent_weights(V, F):
 _C = cotangent_weights(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]]), np.array([[0, 1, 2]]))
 assert np.allclose(_C, [[0.0, 1.0, 0.25]]), (
     f"for the triangle (0,0), (2,0), (0,1) expected C = [[0, 1, 0.25]] (½cot at corners 0, 1, 2), got {np.round(_C, 6).tolist()}"
+    + (": that is cot, not ½cot" if np.allclose(_C, [[0.0, 2.0, 0.5]]) else "")
 )
 _V, _F = load_mesh("bar_coarse")
 _C = cotangent_weights(_V, _F)
@@ -193,7 +201,10 @@ _V, _F = load_mesh("character")
 _L = cotangent_laplacian(_V, _F)
 assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name__}"
 _L = sp.csr_matrix(_L)
-assert abs(_L - _L.T).max() < 1e-12 and np.abs(_L @ np.ones(len(_V))).max() < 1e-10, "L must be symmetric with rows summing to 0"
+assert abs(_L - _L.T).max() < 1e-12 and np.abs(_L @ np.ones(len(_V))).max() < 1e-10, (
+    "L must be symmetric with rows summing to 0"
+    + ("; the diagonal has the wrong sign: L_ii = -Σ_j L_ij" if (_L.diagonal() > 0).all() else "")
+)
 # for the linear function f = x - y/2, -fᵀ L f is ∫‖∇f‖² = 1.25 × area
 _e1, _e2 = _V[_F[:, 1]] - _V[_F[:, 0]], _V[_F[:, 2]] - _V[_F[:, 0]]
 _f = _V @ np.array([1.0, -0.5])
@@ -240,6 +251,7 @@ _owner = _draw.integers(3, size=len(_V))
 _U = lbs_matrix(_V, np.eye(3)[_owner]) @ _T.transpose(0, 2, 1).reshape(-1, 2)
 assert np.allclose(_U, np.einsum("iab,ib->ia", _T[_owner, :, :2], _V) + _T[_owner, :, 2]), (
     "with one-hot weight rows, A @ vstack(T_jᵀ) must move each vertex by its own handle's transform"
+    + ("; the translation columns must hold w_ij·1, not 1" if not np.allclose(_A[:, 2::3], _W) else "")
 )
 assert np.allclose(lbs_matrix(_V, 2 * _W), 2 * _A), "A is linear in W: doubling W doubles A"
 
