@@ -12,4 +12,4 @@ def optimal_rotation(S):
     return V @ np.swapaxes(U, -1, -2)
 ''',
 }
-LOSES = {"optimal_rotation", "rigid_align"}
+LOSES = {"optimal_rotation"}
