@@ -30,6 +30,7 @@ import shutil
 import tempfile
 import textwrap
 import time
+import tokenize
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -162,20 +163,70 @@ def generate_assignment(paths: CoursePaths, assignment: str, db_url: str | None 
 
 
 _CHECKER_CALL = re.compile(r"^[\w, ]+ = (as_\w+|check_\w+)\(|^check_\w+\(")
+#: A body's line shorter than this (whitespace collapsed) is too generic to count as a leak.
+MIN_LEAK_CHARS = 30
+
+
+def _normalized(line: str) -> str:
+    """``line`` stripped, runs of whitespace as one space (markdown and reformatting change spacing only)."""
+    return " ".join(line.split())
+
+
+def _calls_a_contract_function(line: str) -> bool:
+    """Whether ``line`` only calls one contract function on names and constants (``data = arap_precompute(V, F, h)``).
+
+    Notebooks call graded functions everywhere by design; such a call says nothing about how they are computed.
+    """
+    try:
+        tree = ast.parse(line)
+    except SyntaxError:
+        return False
+    if len(tree.body) != 1 or not isinstance(tree.body[0], (ast.Assign, ast.Expr, ast.Return)):
+        return False
+    call = tree.body[0].value
+    plain = (ast.Name, ast.Constant, ast.Attribute)
+    return (
+        isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id in CONTRACT_NAMES
+        and all(isinstance(a, plain) for a in call.args) and all(isinstance(k.value, plain) for k in call.keywords)
+    )
+
+
+def _without_comment(line: str) -> str:
+    """``line`` without a trailing ``#`` comment (a quote of the code rarely quotes the comment)."""
+    try:
+        for token in tokenize.generate_tokens(io.StringIO(line).readline):
+            if token.type == tokenize.COMMENT:
+                return line[: token.start[1]].rstrip()
+    except (tokenize.TokenError, SyntaxError):  # a line of a multi-line statement
+        pass
+    return line
 
 
 def _distinctive_lines(text: str) -> set[str]:
-    """Lines long and specific enough that finding them elsewhere means the code was copied.
+    """Lines long and specific enough that finding one elsewhere means the code was copied (whitespace collapsed).
 
-    Calls of the public input checkers (``starter.validation``) are shared with
-    students on purpose, so they do not count.
+    A trailing comment is dropped. Trivial lines do not count: shorter than ``MIN_LEAK_CHARS``, comments, imports,
+    docstring quotes, ``raise ValueError`` messages, calls of the public input
+    checkers (``starter.validation``, shared with students on purpose) and lines
+    that only call a contract function (``_calls_a_contract_function``).
     """
     lines = set()
     for line in text.splitlines():
-        s = line.strip()
-        if len(s) >= 30 and not s.startswith(("#", "import ", "from ", '"""', "raise ValueError")) and not _CHECKER_CALL.match(s):
+        s = _without_comment(_normalized(line))
+        if (len(s) >= MIN_LEAK_CHARS and not s.startswith(("#", "import ", "from ", '"""', "raise ValueError"))
+                and not _CHECKER_CALL.match(s) and not _calls_a_contract_function(s)):
             lines.add(s)
     return lines
+
+
+def public_lines(paths: CoursePaths) -> set[str]:
+    """Every line of the course's public code (the Python files of ``course_files``), whitespace collapsed.
+
+    Students get that code as it is, so a body's line it also holds (``F = np.asarray(F,
+    dtype=np.int64)``) reveals nothing. Read from the course folder, never from the
+    release being scanned.
+    """
+    return {_normalized(line) for path, _ in course_files(paths) if path.suffix == ".py" for line in path.read_text().splitlines()}
 
 
 def _readable_text(text: str) -> str:
@@ -216,8 +267,12 @@ def teaching_bodies(notebooks_dir: Path, assignment: str) -> dict[str, str]:
     return bodies
 
 
-def scan_for_leaks(texts: dict[str, str], teaching: dict[str, str] | None = None) -> list[str]:
+def scan_for_leaks(texts: dict[str, str], teaching: dict[str, str] | None = None, public: set[str] = frozenset()) -> list[str]:
     """Problems for every release text that holds solution code, hidden tests or grader internals.
+
+    A text leaks a body when it holds one of the body's distinctive lines that
+    public code does not also hold, anywhere in a line (a markdown hint may quote
+    code inside a sentence), or two of its distinctive lines of any kind.
 
     Parameters
     ----------
@@ -226,6 +281,8 @@ def scan_for_leaks(texts: dict[str, str], teaching: dict[str, str] | None = None
     teaching : dict, optional
         Label -> body of a teaching solution (``teaching_bodies``); the bodies of
         ``reference/`` are always looked for.
+    public : set of str, optional
+        Lines students get as public code (``public_lines``).
     """
     solutions = {f"reference {name}": reference_body(name) for name in sorted(CONTRACT_NAMES)} | (teaching or {})
     bodies = {label: _distinctive_lines(body) for label, body in solutions.items()}
@@ -236,12 +293,12 @@ def scan_for_leaks(texts: dict[str, str], teaching: dict[str, str] | None = None
         for marker in forbidden:
             if marker in text:
                 problems.append(f"{fname} contains {marker!r}")
-        stripped = {line.strip() for line in text.splitlines()}
+        flat = "\n".join(_normalized(line) for line in text.splitlines())
         for name, lines in bodies.items():
-            leaked = sorted(lines & stripped)
-            # One generic line can recur by chance; two lines of one body, or a body's only line, cannot.
-            if leaked and len(leaked) >= min(2, len(lines)):
-                problems.append(f"{fname} contains the code of {name}: {leaked[0]!r} ({len(leaked)} lines)")
+            found = sorted(line for line in lines if line in flat)
+            secret = [line for line in found if line not in public]
+            if secret or len(found) >= 2:
+                problems.append(f"{fname} contains the code of {name}: {(secret or found)[0]!r} ({len(found)} lines)")
     return problems
 
 
@@ -473,7 +530,7 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
         for name in z.namelist():
             if name.endswith((".py", ".ipynb", ".md", ".txt")):
                 texts[f"{bundle.name}:{name}"] = z.read(name).decode("utf-8", "replace")
-    report.problems += scan_for_leaks(texts, teaching_bodies(paths.notebooks, assignment))
+    report.problems += scan_for_leaks(texts, teaching_bodies(paths.notebooks, assignment), public_lines(paths))
     check_points(sources, report)
     if execute:
         steps = (

@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from grader.checks import callees
-from grader.checks.base import Case, FunctionChecks, ShapeError, Verdict, run_steps
+from grader.checks.base import Case, FunctionChecks, ShapeError, Verdict, raised_verdict, run_steps
 from grader.contract import reference_function
 from grader.harness.outputs import MAX_CALLS, RECORD_ELEMENTS, CaseOutput
 
@@ -110,8 +110,8 @@ def charge_policy(result: FunctionResult, violations: tuple[str, ...]) -> Functi
 
 
 def reference_outputs(cases: list[Case]) -> list[Any]:
-    """The reference's output on every case, computed in this (trusted) process."""
-    return [run_steps(case, reference_function) for case in cases]
+    """The reference's output on every case, computed in this (trusted) process (``None`` for a case that must raise)."""
+    return [None if "raises" in case.context else run_steps(case, reference_function) for case in cases]
 
 
 #: function -> the course functions its reference called on its hidden cases (``callees.trace``)
@@ -168,6 +168,9 @@ def evaluate(
     """
     result = FunctionResult(checks.function)
     for case, out, ref in zip(cases, outputs, expected):
+        if "raises" in case.context:  # a contract promise for bad input: the call must raise, not return
+            result.cases.append(CaseResult(case.label, [raised_verdict(case.context["raises"], out.error)], seconds=out.seconds))
+            continue
         if out.error is not None:
             given = _own_work(checks, case, out, seed)
             if given:

@@ -29,6 +29,8 @@ __all__ = [
     "as_pair",
     "close",
     "once_per_case",
+    "raises",
+    "raised_verdict",
     "verdict",
 ]
 
@@ -44,6 +46,27 @@ class Verdict:
 
 def verdict(name: str, passed: bool, detail: str = "") -> Verdict:
     return Verdict(name, bool(passed), "" if passed else detail)
+
+
+def raises(label: str, steps: list[Step], error: str = "ValueError") -> Case:
+    """A case whose last step must raise ``error`` (a contract promise for bad input), not return.
+
+    The reference is not run on it (``reference_outputs`` gives ``None``); tests check that it raises.
+    """
+    return Case(label, steps, {"raises": error})
+
+
+def raised_verdict(error: str, raised: str | None) -> Verdict:
+    """Whether the call raised ``error``, from what the collection recorded.
+
+    ``raised`` is the recorded ``"TypeName: message"`` (``None`` if the call returned). Only the
+    class name travels from the kernel, so a subclass of ``ValueError`` (``LinAlgError`` from a
+    singular solve, say) is not the clear error the contract asks for.
+    """
+    name = None if raised is None else raised.split(":", 1)[0].strip()
+    if name is None or not name.isidentifier():  # the call returned (its output may not even have been readable)
+        return verdict(f"raises {error}", False, f"returned a result instead of raising {error}")
+    return verdict(f"raises {error}", name == error, f"raised {raised.splitlines()[0][:300]}, not {error}")
 
 
 class ShapeError(ValueError):

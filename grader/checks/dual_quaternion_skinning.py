@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from grader.checks.base import Case, FunctionChecks, as_array, close, verdict
+from grader.checks.base import Case, FunctionChecks, Step, as_array, close, raises, verdict
 from grader.checks.lbs import _weights as lbs_weights
 from grader.checks.meshes import relabel
 from grader.checks.shape_matching import random_rotation
@@ -50,7 +50,10 @@ def _skin(V: np.ndarray, W: np.ndarray, Q: np.ndarray) -> np.ndarray:
 
 class DualQuaternionsChecks(FunctionChecks):
     function = "dual_quaternions"
-    description = "unit dual quaternions of random rigid transforms, half turns (w = 0), pure rotations and translations"
+    description = (
+        "unit dual quaternions of random rigid transforms, half turns (w = 0), pure rotations and translations; "
+        "a ValueError for a transform that is not rigid"
+    )
 
     def cases(self, rng):
         rotations_only = _rigid(rng, 3)
@@ -63,7 +66,14 @@ class DualQuaternionsChecks(FunctionChecks):
             ("rotations without translation", rotations_only),
             ("translations without rotation", translations_only),
         ]
-        return [Case.call(label, "dual_quaternions", T) for label, T in picks]
+        scaled, mirrored = _rigid(rng, 3), _rigid(rng, 2)
+        scaled[1, :, :3] *= 1.5
+        mirrored[0, :, :3] = mirrored[0, :, :3] @ np.diag([1.0, 1.0, -1.0])
+        return [Case.call(label, "dual_quaternions", T) for label, T in picks] + [
+            # the contract's promise: a ValueError naming T[j] when R_j is not a rotation to 1e-6
+            raises("T[1]'s 3x3 part is a rotation scaled by 1.5 (not rigid)", [Step("dual_quaternions", (scaled,))]),
+            raises("T[0]'s 3x3 part is a reflection (det -1)", [Step("dual_quaternions", (mirrored,))]),
+        ]
 
     def verify(self, case, got, expected):
         T = case.args()[0]

@@ -18,7 +18,20 @@ import functools
 import numpy as np
 
 from grader.checks.arap import DIRECT_RTOL, HANDLE_TOL, ITERATE_RTOL, axis_rotation, energy_scale, energy_verdict, local_global_energy_verdicts
-from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_pair, close, once_per_case, verdict
+from grader.checks.base import (
+    Case,
+    FunctionChecks,
+    Ref,
+    Step,
+    Verdict,
+    as_array,
+    as_float,
+    as_pair,
+    close,
+    once_per_case,
+    raises,
+    verdict,
+)
 from grader.checks.meshes import clockwise, mixed_orientation, relabel, unsorted_order
 from grader.checks.rotations import rotation_verdicts
 from grader.checks.shape_matching import random_rotation, trace_verdict
@@ -313,7 +326,10 @@ def _precompute(V, F, W, clusters, fixed) -> Step:
 class FastPrecomputeChecks(FunctionChecks):
     function = "fast_precompute"
     needs = ("fast_global_step", "fast_solve")
-    description = "the precomputed data serves several global steps and solves in a row, fixed handles in any order"
+    description = (
+        "the precomputed data serves several global steps and solves in a row, fixed handles in any order; "
+        "a ValueError when the energy does not determine the free transforms"
+    )
 
     def cases(self, rng):
         scenes = fast_scenes(rng)
@@ -332,6 +348,15 @@ class FastPrecomputeChecks(FunctionChecks):
         R = _random_local_rotations(rng, V, F, W, clusters, fixed, X)
         steps = [_precompute(V, F, W, clusters, fixed), Step("fast_solve", (Ref(0), X), {"iterations": 2}), Step("fast_global_step", (Ref(0), R, X))]
         cases.append(Case("2D strip: a global step after a solve with the same precomputation", steps, {"R": R, "X": X}))
+        # The contract's promises: a ValueError when the energy does not determine the free transforms.
+        V, F, W, clusters, fixed, X = scenes[STRIP]
+        planar = np.c_[V, np.zeros(len(V))]
+        cases += [
+            raises("2D strip with no fixed handle", [_precompute(V, F, W, clusters, np.zeros(0, dtype=np.int64))]),
+            raises("2D strip put into the plane z = 0 of 3D (a planar mesh in 3D)", [_precompute(planar, F, W, clusters, fixed)]),
+            raises("2D strip with one more handle whose weight column is zero",
+                   [_precompute(V, F, np.c_[W, np.zeros(len(V))], clusters, fixed)]),
+        ]
         return cases
 
     def verify(self, case, got, expected):

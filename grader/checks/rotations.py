@@ -10,7 +10,14 @@ from __future__ import annotations
 import numpy as np
 
 from grader.checks.base import Case, FunctionChecks, Verdict, as_array, verdict
-from grader.checks.shape_matching import align_cases, align_verdicts, matrix_cases, orthonormal_verdict, trace_verdict
+from grader.checks.shape_matching import (
+    align_cases,
+    align_verdicts,
+    matrix_cases,
+    orthonormal_verdict,
+    random_rotation,
+    trace_verdict,
+)
 
 #: Largest ``|det R − 1|`` accepted for a rotation.
 DET_TOL = 1e-8
@@ -30,6 +37,16 @@ def rotation_verdicts(R: np.ndarray, what: str = "R") -> list[Verdict]:
     return [orthonormal_verdict(R, what), det_verdict(R, what)]
 
 
+def exactly_singular(rng: np.random.Generator, k: int = 6) -> np.ndarray:
+    """``(k, 3, 3)``: ``S = diag(a, 0, c) Bᵀ`` for random rotations ``B``, so ``det S`` is exactly 0.
+
+    The best rotation is ``B``. LAPACK's singular vectors of the zero singular value give
+    ``det(Ṽ Ũᵀ) = -1`` for about half of these (measured), so a sign taken from ``det S``
+    instead of ``det(Ṽ Ũᵀ)`` misses ``B`` in all but one of 2^k draws.
+    """
+    return np.stack([np.diag([rng.uniform(2.0, 3.0), 0.0, rng.uniform(0.5, 1.5)]) @ random_rotation(rng, 3).T for _ in range(k)])
+
+
 class OptimalRotationChecks(FunctionChecks):
     function = "optimal_rotation"
     description = "rotations maximizing tr(R S) for single S and (k, d, d) stacks: mirrored, rank-deficient, zero S"
@@ -45,6 +62,7 @@ class OptimalRotationChecks(FunctionChecks):
             (f"stack of {len(three)} 3x3: " + ", ".join(three), np.stack(list(three.values()))),
             (f"stack of {len(two)} 2x2: " + ", ".join(two), np.stack(list(two.values()))),
             ("stack of one 3x3 with det < 0", three["det < 0 with smallest singular value 1e-9"][None]),
+            ("stack of 6 planar 3x3 with a zero row (det S exactly 0; the sign comes from det(Ṽ Ũᵀ))", exactly_singular(rng)),
         ]
         return [Case.call(label, "optimal_rotation", S) for label, S in singles + stacks]
 

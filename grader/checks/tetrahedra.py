@@ -11,7 +11,20 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from grader.checks.base import Case, FunctionChecks, Ref, Step, as_array, as_float, as_matrix, close, max_abs, once_per_case, verdict
+from grader.checks.base import (
+    Case,
+    FunctionChecks,
+    Ref,
+    Step,
+    as_array,
+    as_float,
+    as_matrix,
+    close,
+    max_abs,
+    once_per_case,
+    raises,
+    verdict,
+)
 from grader.checks.shape_matching import random_rotation
 from starter.meshes import load_mesh
 
@@ -366,16 +379,24 @@ def _global_step_verdicts(case, got, expected, V, T, handles, P, R) -> list:
 class TetArapPrecomputeChecks(FunctionChecks):
     function = "tet_arap_precompute"
     needs = ("tet_arap_global_step",)
-    description = "the precomputed data serves several global steps in a row, handles in any order"
+    description = "the precomputed data serves several global steps in a row, handles in any order; bad handles raise ValueError"
 
     def cases(self, rng):
-        cases = []
-        for label, (V, T, handles, P, R) in _arap_scenes(rng).items():
+        cases, scenes = [], _arap_scenes(rng)
+        for label, (V, T, handles, P, R) in scenes.items():
             P2 = P + rng.normal(0.0, 0.1, P.shape)
             R2 = np.stack([random_rotation(rng, 3) for _ in range(len(T))])
             steps = [Step("tet_arap_precompute", (V, T, handles)), Step("tet_arap_global_step", (Ref(0), R, P)),
                      Step("tet_arap_global_step", (Ref(0), R2, P2))]
             cases.append(Case(f"{label}: two global steps with one precomputation", steps, {"R": R2, "P": P2}))
+        # The contract's promise: a ValueError if handles is empty, repeats a vertex or is out of range.
+        V, T, handles, _, _ = next(iter(scenes.values()))
+        for label, bad in (
+            ("no handle", np.zeros(0, dtype=np.int64)),
+            ("a handle repeated", np.r_[handles[:3], handles[:1]]),
+            ("a handle out of range", np.r_[handles[:3], len(V)]),
+        ):
+            cases.append(raises(f"the volumetric bar with {label}", [Step("tet_arap_precompute", (V, T, bad))]))
         return cases
 
     def verify(self, case, got, expected):

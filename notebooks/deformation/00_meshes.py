@@ -203,7 +203,10 @@ def euler_characteristic(V, F):
 # %% deformlab={"tests": "euler_characteristic", "points": 2}
 _chi = euler_characteristic(V_tet, F_tet)
 assert isinstance(_chi, (int, np.integer)), f"euler_characteristic must return an int, got {type(_chi).__name__}"
-assert _chi == 2, f"tetrahedron: expected chi = 4 - 6 + 4 = 2, got {_chi}"
+assert _chi == 2, (
+    f"tetrahedron: expected chi = 4 - 6 + 4 = 2, got {_chi}"
+    + (": that is V + E - F; the signs are swapped, chi = V - E + F" if _chi == 6 else "")
+)
 _chi = euler_characteristic(V_square, F_square)
 assert _chi == 1, f"square of two triangles: expected chi = 4 - 5 + 2 = 1, got {_chi}"
 _chi = euler_characteristic(V_ring, F_ring)

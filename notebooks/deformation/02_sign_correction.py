@@ -94,6 +94,7 @@ _w = np.array([1.0, 3.0, 0.0, 0.0])
 _c = centroid(_P, 10 * _w)
 assert np.allclose(_c, [3.0, 0.0]), (
     f"weights {(10 * _w).tolist()}: expected (10·[0, 0] + 30·[4, 0]) / 40 = [3, 0], got {_c}"
+    + (": the weights are ignored" if np.allclose(_c, [2.0, 1.0]) else "")
 )
 
 # %% [markdown]
@@ -133,6 +134,8 @@ _Q = _P @ rotation_2d(np.pi / 2).T
 _S = covariance_matrix(_P + [5.0, -1.0], _Q + [10.0, 3.0])
 assert np.shape(_S) == (2, 2) and np.allclose(_S, [[0.0, 2.0], [-8.0, 0.0]]), (
     f"P turned by 90 degrees, then P and Q translated: expected S = [[0, 2], [-8, 0]], got {np.round(_S, 6).tolist()}"
+    + (": translating P and Q changed S, subtract the centroids before multiplying"
+       if np.allclose(covariance_matrix(_P, _Q), [[0.0, 2.0], [-8.0, 0.0]]) else "")
 )
 _w = np.array([2.0, 0.0, 2.0, 0.0])
 _S = covariance_matrix(_P, _Q, _w)
@@ -329,6 +332,17 @@ _R = optimal_rotation(np.stack([np.diag([2.0, -1.0]), np.diag([2.0, 1.0])]))
 assert np.shape(_R) == (2, 2, 2) and np.allclose(_R, np.eye(2), atol=1e-10), (
     f"the stack [diag(2, -1), diag(2, 1)] must give two identities, got {np.round(_R, 6).tolist()}"
 )
+# Singular S whose SVD gives det(Ṽ Ũᵀ) = -1: the flip is needed although det(S) = 0.
+for _axis, _angle in [([1.0, -2.0, 0.5], 2.0), ([0.0, 1.0, 1.0], 0.7), ([2.0, 1.0, -1.0], 1.3)]:
+    _B = rotation_3d(_axis, _angle)
+    _S = np.diag([3.0, 0.0, 2.0]) @ _B.T  # coplanar points; the zero row makes det(S) exactly 0
+    _R = optimal_rotation(_S)
+    assert np.allclose(_R, _B, atol=1e-10), (
+        f"S = diag(3, 0, 2) Bᵀ (B a rotation) is singular, and its best rotation is B itself (tr(B S) = 5); got R "
+        f"with det {np.linalg.det(_R):.6f} and tr(R S) = {np.trace(_R @ _S):.6f}"
+        + (": det(S) = 0 says nothing about the sign; take it from det(Ṽ Ũᵀ), which is -1 here"
+           if abs(np.linalg.det(_R) - 1) > 1e-8 else ": that is Bᵀ, the transpose; R = Ṽ D Ũᵀ" if np.allclose(_R, _B.T) else "")
+    )
 
 # %% [markdown]
 # ## 3. Rigid alignment

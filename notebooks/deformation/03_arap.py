@@ -138,6 +138,14 @@ for _ in range(20):
 _S = _rot2(0.7) @ np.diag([3.0, 1.0])
 assert np.allclose(optimal_rotation(_S), _rot2(-0.7)), "for S = R(0.7)·diag(3, 1) the best rotation is R(-0.7)"
 
+# A singular S (coplanar points): det(S) = 0, yet the best rotation is B for S = diag(3, 0, 2) Bᵀ.
+_B = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])  # a rotation
+_R = optimal_rotation(np.diag([3.0, 0.0, 2.0]) @ _B.T)
+assert np.allclose(_R, _B, atol=1e-10), (
+    f"S = diag(3, 0, 2) Bᵀ (B a rotation) is singular and its best rotation is B; got R with det {np.linalg.det(_R):.6f}"
+    + (": det(S) = 0 says nothing about the sign; take it from det(Ṽ Ũᵀ)" if abs(np.linalg.det(_R) - 1) > 1e-8 else "")
+)
+
 # %% [markdown]
 # ## 2 · Cotangent weights
 #
@@ -319,11 +327,14 @@ assert np.allclose(_L.toarray(), _expected), (
 )
 
 
-def _interior_vertices(F, n):
-    # Boundary edges belong to one triangle only.
-    _e = np.sort(F[:, [[1, 2], [2, 0], [0, 1]]].reshape(-1, 2), axis=1)
-    _u, _count = np.unique(_e, axis=0, return_counts=True)
-    return np.setdiff1d(np.arange(n), _u[_count == 1].ravel())
+def _dirichlet(V, F, a):
+    """∫ ‖∇f‖² of the linear function f = V a over the mesh: Σ_t area_t ‖a projected onto t's plane‖²."""
+    e1, e2 = V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]
+    if V.shape[1] == 2:
+        return np.sum(0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])) * (a @ a)
+    n = np.cross(e1, e2)
+    area = 0.5 * np.linalg.norm(n, axis=1)
+    return np.sum(area * (a @ a - (n @ a / (2 * area)) ** 2))
 
 
 _V, _F = load_mesh("character")
@@ -332,18 +343,17 @@ assert _L.shape == (len(_V), len(_V)), f"L must be (n, n) = {(len(_V), len(_V))}
 assert abs(_L - _L.T).max() < 1e-12, "L must be symmetric"
 _rows = np.abs(np.asarray(_L.sum(axis=1))).ravel()
 assert _rows.max() < 1e-10, f"every row of L must sum to 0; row {_rows.argmax()} sums to {_rows.max():.3e}"
-_inner = _interior_vertices(_F, len(_V))
-_LV = np.abs(_L @ _V)[_inner].max(axis=1)
-assert _LV.max() < 1e-9, (
-    f"L applied to the (linear) coordinates must vanish at interior vertices; at vertex "
-    f"{_inner[_LV.argmax()]} it is {_LV.max():.3e}: is each weight on the edge opposite its corner?"
-)
-
-import igl as _igl  # noqa: E402
-
-_V, _F = load_mesh("bar_coarse")
-_diff = abs(sp.csr_matrix(cotangent_laplacian(_V, _F)) - _igl.cotmatrix(_V, _F)).max()
-assert _diff < 1e-10, f"on the 3D bar, L differs from igl.cotmatrix by up to {_diff:.3e}"
+# Linear functions are exact: for f = V a, -fᵀ L f is the integral of ‖∇f‖² = ‖a‖² × area.
+for _name in ("character", "bar_coarse"):
+    _V, _F = load_mesh(_name)
+    _L = sp.csr_matrix(cotangent_laplacian(_V, _F))
+    for _a in np.eye(_V.shape[1])[:2] + 0.5:
+        _f = _V @ _a
+        _want, _got = _dirichlet(_V, _F, _a), -_f @ (_L @ _f)
+        assert np.isclose(_got, _want, rtol=1e-9), (
+            f"{_name}: for the linear function f = V·{_a.tolist()}, -fᵀ L f must be its Dirichlet energy ∫‖∇f‖² = "
+            f"{_want:.10g}, got {_got:.10g}: is each weight on the edge opposite its corner?"
+        )
 
 # %% [markdown]
 # ## 4 · The local step: one rotation per cell
@@ -995,15 +1005,22 @@ _ends = load_handles("bar_coarse")
 _h = np.concatenate([_ends["left"], _ends["right"]])
 _target = _V[_h] + 0.3 * rng.normal(size=(len(_h), 3))
 _U = laplacian_editing(_V, _F, _h, _target)
-_expected = arap_global_step(arap_precompute(_V, _F, _h), np.tile(np.eye(3), (len(_V), 1, 1)), _target)
-_err = np.linalg.norm(_U - _expected, axis=1)
-assert _err.max() < 1e-8, (
-    f"Laplacian editing is the global step with every R_i = I; vertex {_err.argmax()} is off by {_err.max():.2e} "
-    "(the same cotangent Laplacian as the global step, not the uniform graph Laplacian)"
-)
+assert np.array_equal(_U[_h], _target), "U[handles] must equal handle_positions exactly"
+# The global step with every R_i = I: U minimizes arap_energy with identity rotations, so E(U + D) = E(U - D)
+# for any D that keeps the handles.
+_C, _I = cotangent_weights(_V, _F), np.tile(np.eye(3), (len(_V), 1, 1))
+_E = arap_energy(_V, _U, _F, _C, _I)
+for _ in range(3):
+    _D = 0.01 * rng.normal(size=_V.shape)
+    _D[_h] = 0.0
+    _plus, _minus = arap_energy(_V, _U + _D, _F, _C, _I), arap_energy(_V, _U - _D, _F, _C, _I)
+    assert min(_plus, _minus) >= _E - 1e-9 * _E and abs(_plus - _minus) <= 1e-7 * (_plus + _minus), (
+        f"Laplacian editing is the global step with every R_i = I, but U does not minimize that energy: moving the "
+        f"free vertices by ±D gives {_minus:.8g} and {_plus:.8g} against {_E:.8g} (the same cotangent Laplacian as "
+        "the global step, not the uniform graph Laplacian)"
+    )
 _t = np.array([1.0, 2.0, -3.0])
 assert np.allclose(laplacian_editing(_V, _F, _h, _V[_h] + _t), _V + _t), "translating every handle by t must translate the mesh by t"
-assert np.array_equal(_U[_h], _target), "U[handles] must equal handle_positions exactly"
 
 # %% [markdown]
 # **Predict first.** Below, the bar is twisted by 90° with Laplacian editing, and

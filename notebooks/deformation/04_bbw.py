@@ -106,6 +106,7 @@ assert _C.shape == (1, 3), f"C must have one row per triangle and one column per
 assert np.allclose(_C, [[0.0, 1.0, 0.25]]), (
     f"for the triangle (0,0), (2,0), (0,1) expected C = [[0, 1, 0.25]] (½cot of the angle at "
     f"corners 0, 1, 2), got {np.round(_C, 6).tolist()}"
+    + (": that is cot, not ½cot" if np.allclose(_C, [[0.0, 2.0, 0.5]]) else "")
 )
 assert np.allclose(cotangent_weights(_V, _F[:, ::-1]), _C[:, ::-1]), (
     "a clockwise triangle must get the same weights at the same corners (use |a × b|)"
@@ -154,20 +155,21 @@ assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name_
 _expected = np.array([[-1.25, 0.25, 1.0], [0.25, -0.25, 0.0], [1.0, 0.0, -1.0]])
 assert np.allclose(_L.toarray(), _expected), (
     f"for the triangle (0,0), (2,0), (0,1) expected L =\n{_expected}\ngot\n{np.round(_L.toarray(), 6)}"
+    + ("\nthe diagonal has the wrong sign: L_ii = -Σ_j L_ij, so that every row sums to zero"
+       if np.allclose(_L.toarray(), np.abs(_expected)) else "")
 )
 _V, _F = load_mesh("character")
 _L = sp.csr_matrix(cotangent_laplacian(_V, _F))
 assert abs(_L - _L.T).max() < 1e-12, "L must be symmetric"
 _rows = np.abs(np.asarray(_L.sum(axis=1))).ravel()
 assert _rows.max() < 1e-10, f"every row of L must sum to 0; row {_rows.argmax()} sums to {_rows.max():.3e}"
-# Linear precision: L applied to the coordinates vanishes away from the boundary.
-_e = np.sort(_F[:, [[1, 2], [2, 0], [0, 1]]].reshape(-1, 2), axis=1)
-_u, _count = np.unique(_e, axis=0, return_counts=True)
-_inner = np.setdiff1d(np.arange(len(_V)), _u[_count == 1].ravel())
-_LV = np.abs(_L @ _V)[_inner].max(axis=1)
-assert _LV.max() < 1e-9, (
-    f"L applied to the (linear) coordinates must vanish at interior vertices; at vertex "
-    f"{_inner[_LV.argmax()]} it is {_LV.max():.3e}"
+# Linear functions are exact: for f = V a, -fᵀ L f is the integral of ‖∇f‖² = ‖a‖² × area.
+_e1, _e2 = _V[_F[:, 1]] - _V[_F[:, 0]], _V[_F[:, 2]] - _V[_F[:, 0]]
+_area = np.sum(0.5 * np.abs(_e1[:, 0] * _e2[:, 1] - _e1[:, 1] * _e2[:, 0]))
+_f = _V @ np.array([1.0, -0.5])
+assert np.isclose(-_f @ (_L @ _f), 1.25 * _area, rtol=1e-9), (
+    f"for the linear function f = x - y/2, -fᵀ L f must be ∫‖∇f‖² = 1.25 × area = {1.25 * _area:.10g}, "
+    f"got {-_f @ (_L @ _f):.10g}"
 )
 
 # %% [markdown]
@@ -605,6 +607,23 @@ assert _E < 0.99 * _E_clipped, (
     f"the bounded weights must minimize ½ wᵀQw: their energy {_E:.6g} is not below that of the clipped "
     f"unconstrained weights, {_E_clipped:.6g} (clipping is feasible but not optimal: solve the bounded problem)"
 )
+# The minimizer's optimality conditions (KKT): the gradient g = Q w at the free vertices is >= 0
+# where w = 0, <= 0 where w = 1 and 0 in between. A negative g_i means raising w_i lowers the energy,
+# a positive one lowering it; w_i may only sit at the bound that blocks that move.
+_free = np.setdiff1d(np.arange(len(_V)), _b)
+_g, _wf = (_Q @ _w)[_free], _w[_free]
+_tol = 1e-3 * np.abs(_Q @ _w).max()
+_wrong = ((_g < -_tol) & (_wf < 1 - 1e-6)) | ((_g > _tol) & (_wf > 1e-6))
+if _wrong.any():
+    _i = np.flatnonzero(_wrong)[np.abs(_g[_wrong]).argmax()]
+    _where = "w = 0" if _wf[_i] <= 1e-6 else "w = 1" if _wf[_i] >= 1 - 1e-6 else f"w = {_wf[_i]:.4f}"
+    raise AssertionError(
+        f"vertex {_free[_i]} has {_where} but the gradient (Q w)_i = {_g[_i]:.4g}: the weights do not minimize "
+        "½ wᵀQw (at the minimum (Q w)_i ≥ 0 where w = 0, ≤ 0 where w = 1, and 0 in between)"
+        + (": an active-set loop must also release a held value whose gradient points back into [0, 1]"
+           if _wf[_i] <= 1e-6 or _wf[_i] >= 1 - 1e-6 else
+           ": is each handle's problem solved with both bounds, 0 ≤ w ≤ 1, before the rows are normalized?")
+    )
 
 # %% [markdown]
 # ## 7 · Comparing the weights

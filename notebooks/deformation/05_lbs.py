@@ -55,7 +55,6 @@ import time
 import igl
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from starter import load_handles, load_mesh, plotting, shapes
 from starter.posing import CHARACTER_PARENTS, bone_joints, bone_transforms
@@ -121,6 +120,7 @@ assert np.allclose(_A, _expected), (
     f"for v = (1, 2) and w = (0.25, 0.75) the row is [w_1·(1, 2, 1), w_2·(1, 2, 1)] = {_expected.ravel().tolist()}, "
     f"got {np.round(_A, 6).ravel().tolist()}"
     + (": the 1 goes last, [v_i; 1]" if np.allclose(_A, [[0.25, 0.25, 0.5, 0.75, 0.75, 1.5]]) else "")
+    + (": the 1 is weighted too, W[i, j]·1" if np.allclose(_A, [[0.25, 0.5, 1.0, 0.75, 1.5, 1.0]]) else "")
 )
 
 _V, _F = load_mesh("character")
@@ -128,18 +128,20 @@ _W = rng.uniform(size=(len(_V), 4))
 _W /= _W.sum(axis=1, keepdims=True)
 _A = lbs_matrix(_V, _W)
 assert _A.shape == (len(_V), 4 * 3), f"for n = {len(_V)}, m = 4, d = 2 expected shape {(len(_V), 12)}, got {_A.shape}"
-_diff = np.abs(_A - igl.lbs_matrix(_V, _W)).max()
-assert _diff < 1e-12, f"A differs from igl.lbs_matrix by up to {_diff:.3e}"
+_identity = np.tile(np.eye(2, 3), (4, 1, 1))
+_U = _A @ _identity.transpose(0, 2, 1).reshape(-1, 2)
+assert np.allclose(_U, _V), "the rows of W sum to 1, so with every T_j = [I | 0] A @ vstack(T_jᵀ) must give V back"
+_W2 = rng.uniform(size=_W.shape)
+assert np.allclose(lbs_matrix(_V, _W + 3 * _W2), _A + 3 * lbs_matrix(_V, _W2)), "A is linear in W"
 
 _V, _F = load_mesh("cylinder")
-_W = rng.uniform(size=(len(_V), 2))
-_W /= _W.sum(axis=1, keepdims=True)
 _T = rng.normal(size=(2, 3, 4))
-_U = lbs_matrix(_V, _W) @ np.vstack([_T[0].T, _T[1].T])
-_expected = _W[:, :1] * (_V @ _T[0, :, :3].T + _T[0, :, 3]) + _W[:, 1:] * (_V @ _T[1, :, :3].T + _T[1, :, 3])
-_err = np.linalg.norm(_U - _expected, axis=1)
+_owner = rng.integers(2, size=len(_V))
+_U = lbs_matrix(_V, np.eye(2)[_owner]) @ np.vstack([_T[0].T, _T[1].T])
+_err = np.linalg.norm(_U - (np.einsum("iab,ib->ia", _T[_owner, :, :3], _V) + _T[_owner, :, 3]), axis=1)
 assert _err.max() < 1e-10, (
-    f"A @ vstack(T_jᵀ) must give the skinned positions; in 3D vertex {_err.argmax()} is off by {_err.max():.2e}"
+    f"with one-hot weight rows, A @ vstack(T_jᵀ) must move each vertex by its own handle's transform; "
+    f"in 3D vertex {_err.argmax()} is off by {_err.max():.2e}"
 )
 
 # %% [markdown]
@@ -212,8 +214,13 @@ _W /= _W.sum(axis=1, keepdims=True)
 _T = rng.normal(size=(_m, 2, 3))
 _U = lbs(_V, _W, _T)
 assert _U.shape == _V.shape, f"U must have the shape of V, {_V.shape}, got {_U.shape}"
-_err = np.linalg.norm(_U - lbs_matrix(_V, _W) @ _T.transpose(0, 2, 1).reshape(-1, 2), axis=1)
-assert _err.max() < 1e-10, f"lbs(V, W, T) must equal lbs_matrix(V, W) @ vstack(T_jᵀ); vertex {_err.argmax()} is off by {_err.max():.2e}"
+# u_i is linear in the transforms and in the weights
+_T2 = rng.normal(size=_T.shape)
+_err = np.linalg.norm(lbs(_V, _W, _T + 2 * _T2) - (_U + 2 * lbs(_V, _W, _T2)), axis=1)
+assert _err.max() < 1e-10, f"lbs must be linear in T: lbs(V, W, T + 2 T2) = lbs(V, W, T) + 2 lbs(V, W, T2); vertex {_err.argmax()} is off by {_err.max():.2e}"
+_W2 = rng.uniform(size=_W.shape)
+_err = np.linalg.norm(lbs(_V, _W + _W2, _T) - (_U + lbs(_V, _W2, _T)), axis=1)
+assert _err.max() < 1e-10, f"lbs must be linear in W (no normalization inside); vertex {_err.argmax()} is off by {_err.max():.2e}"
 
 _a = 0.8
 _rigid = np.array([[np.cos(_a), -np.sin(_a), 0.3], [np.sin(_a), np.cos(_a), -1.2]])
@@ -252,16 +259,10 @@ assert _err.max() < 1e-10, f"a vertex with a one-hot weight row must follow its 
 
 # %%
 def harmonic_weights(V, F, handle_sets):
-    """Harmonic weights, one column per handle vertex set (w = 1 on the set, 0 on the other sets)."""
-    L = igl.cotmatrix(V, F).tocsr()
+    """Harmonic weights, one column per handle vertex set (w = 1 on the set, 0 on the other sets), by libigl."""
     b = np.concatenate(handle_sets)
     owner = np.repeat(np.arange(len(handle_sets)), [len(h) for h in handle_sets])
-    bc = np.eye(len(handle_sets))[owner]
-    free = np.setdiff1d(np.arange(len(V)), b)
-    W = np.zeros((len(V), len(handle_sets)))
-    W[b] = bc
-    W[free] = spla.spsolve(L[free][:, free].tocsc(), -(L[free][:, b] @ bc))
-    return W
+    return igl.harmonic(V, F, b, np.eye(len(handle_sets))[owner], 1)
 
 
 V, F = load_mesh("character")
@@ -508,6 +509,8 @@ def dual_quaternions(T):
     T = np.asarray(T, dtype=float)
     Q = np.zeros((len(T), 2, 4))
     for j, (R, t) in enumerate(zip(T[:, :, :3], T[:, :, 3])):
+        if np.abs(R.T @ R - np.eye(3)).max() > 1e-6 or np.linalg.det(R) < 0:
+            raise ValueError(f"T[{j}]: the 3x3 part R is no rotation (RᵀR = I and det R = +1 are needed)")
         tr = np.trace(R)
         # P[a, b] = 4 q_a q_b for q = (w, x, y, z): the identities between R and q
         P = np.array([
@@ -556,13 +559,26 @@ assert np.allclose(_Q[0, 1], [0, 1, 0, 0]), (
     f"a translation by (2, 0, 0) has q_e = ½ (0, t) q_0 = (0, 1, 0, 0), got {np.round(_Q[0, 1], 4).tolist()}"
     + (": the factor ½ is missing" if np.allclose(_Q[0, 1], [0, 2, 0, 0]) else "")
 )
-# random rigid transforms: q_0 against scipy (which stores (x, y, z, w)), q_e = ½ (0, t) q_0
+# random rigid transforms: q_0 must turn points as R does, x ↦ q_0 (0, x) q̄_0, and q_e = ½ (0, t) q_0
+
+
+def _product(p, q):
+    """Quaternion products p q, row by row, (w, x, y, z) scalar first."""
+    return np.c_[p[:, 0] * q[:, 0] - np.sum(p[:, 1:] * q[:, 1:], axis=1),
+                 p[:, :1] * q[:, 1:] + q[:, :1] * p[:, 1:] + np.cross(p[:, 1:], q[:, 1:])]
+
+
 _R = _Rotation.random(6, random_state=3).as_matrix()
 _t = rng.normal(size=(6, 3))
 _Q = dual_quaternions(np.concatenate([_R, _t[:, :, None]], axis=2))
-_scipy = _Rotation.from_matrix(_R).as_quat()[:, [3, 0, 1, 2]]
-_sign = np.sign(np.sum(_Q[:, 0] * _scipy, axis=1))[:, None]
-assert np.allclose(_sign * _Q[:, 0], _scipy, atol=1e-10), "q_0 differs from scipy's quaternion of R beyond the sign"
+assert np.allclose(np.linalg.norm(_Q[:, 0], axis=1), 1.0, atol=1e-10), "every q_0 must be a unit quaternion"
+_x = rng.normal(size=(6, 3))
+_turned = _product(_product(_Q[:, 0], np.c_[np.zeros(6), _x]), _Q[:, 0] * [1, -1, -1, -1])[:, 1:]
+assert np.allclose(_turned, np.einsum("jab,jb->ja", _R, _x), atol=1e-10), (
+    "q_0 (0, x) q̄_0 must be R x: q_0 is not the quaternion of R"
+    + ("; it is that of Rᵀ (check the signs of R[k, j] - R[j, k])"
+       if np.allclose(_turned, np.einsum("jba,jb->ja", _R, _x), atol=1e-10) else "")
+)
 _w, _v = _Q[:, 0, :1], _Q[:, 0, 1:]
 _right = 0.5 * np.c_[-np.sum(_t * _v, axis=1), _w * _t + np.cross(_t, _v)]
 _left = 0.5 * np.c_[-np.sum(_t * _v, axis=1), _w * _t + np.cross(_v, _t)]
@@ -570,6 +586,17 @@ assert np.allclose(_Q[:, 1], _right, atol=1e-10), (
     "q_e must be ½ (0, t) q_0, with the same sign as q_0"
     + (": you computed ½ q_0 (0, t); quaternion products do not commute" if np.allclose(_Q[:, 1], _left, atol=1e-10) else "")
 )
+# A transform that is not rigid has no dual quaternion: the contract asks for a ValueError naming T[j].
+for _bad, _why in ((1.5 * np.eye(3), "a rotation scaled by 1.5"), (np.diag([1.0, 1.0, -1.0]), "a reflection (det -1)")):
+    try:
+        dual_quaternions(np.stack([np.eye(3, 4), np.c_[_bad, np.ones(3)]]))
+    except ValueError:
+        pass
+    except Exception as _exc:  # noqa: BLE001 - any other error is not the one asked for
+        raise AssertionError(f"T[1]'s 3x3 part is {_why}: expected a ValueError, got {type(_exc).__name__}: {_exc}") from None
+    else:
+        raise AssertionError(f"T[1]'s 3x3 part is {_why}, not a rotation: raise a ValueError naming T[1] "
+                             "(check RᵀR = I and det R = +1 to 1e-6)")
 
 # %% [markdown]
 # **Your task.** `dual_quaternion_transforms(Q)` goes back: for each dual

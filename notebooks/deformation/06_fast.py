@@ -103,6 +103,13 @@ assert np.allclose(np.linalg.det(_R), 1.0), "every R must have det +1"
 assert np.isclose(np.trace(optimal_rotation(np.diag([1.0, 2.0, -3.0])) @ np.diag([1.0, 2.0, -3.0])), 4.0), (
     "for S = diag(1, 2, -3) the best rotation gives tr(R S) = 4"
 )
+# A singular S (coplanar points): det(S) = 0, yet the best rotation is B for S = diag(3, 0, 2) Bᵀ.
+_B = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])  # a rotation
+_R = optimal_rotation(np.diag([3.0, 0.0, 2.0]) @ _B.T)
+assert np.allclose(_R, _B, atol=1e-10), (
+    f"S = diag(3, 0, 2) Bᵀ (B a rotation) is singular and its best rotation is B; got R with det {np.linalg.det(_R):.6f}"
+    + (": det(S) = 0 says nothing about the sign; take it from det(Ṽ Ũᵀ)" if abs(np.linalg.det(_R) - 1) > 1e-8 else "")
+)
 
 # %% deformlab={"solution": "cotangent_weights"}
 import numpy as np
@@ -144,9 +151,16 @@ def cotangent_weights(V, F):
 _C = cotangent_weights(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]]), np.array([[0, 1, 2]]))
 assert np.allclose(_C, [[0.0, 1.0, 0.25]]), (
     f"for the triangle (0,0), (2,0), (0,1) expected C = [[0, 1, 0.25]] (½cot at corners 0, 1, 2), got {np.round(_C, 6).tolist()}"
+    + (": that is cot, not ½cot" if np.allclose(_C, [[0.0, 2.0, 0.5]]) else "")
 )
 _V, _F = load_mesh("bar_coarse")
-assert np.allclose(cotangent_weights(_V, _F), igl.cotmatrix_entries(_V, _F)), "C must equal igl.cotmatrix_entries on the bar"
+_C = cotangent_weights(_V, _F)
+# Σ_k ½cot θ_k |e_k|² = 2 · area for every triangle (e_k the edge opposite corner k)
+_e = _V[_F[:, [2, 0, 1]]] - _V[_F[:, [1, 2, 0]]]
+_area = 0.5 * np.linalg.norm(np.cross(_e[:, 0], _e[:, 1]), axis=1)
+assert _C.shape == _F.shape and np.allclose(np.sum(_C * np.sum(_e**2, axis=2), axis=1), 2 * _area), (
+    "on the bar, Σ_k C[t, k] |e_k|² must be 2 · area of every triangle t (e_k the edge opposite corner k)"
+)
 
 # %% deformlab={"solution": "cotangent_laplacian"}
 import numpy as np
@@ -186,8 +200,17 @@ def cotangent_laplacian(V, F):
 _V, _F = load_mesh("character")
 _L = cotangent_laplacian(_V, _F)
 assert sp.issparse(_L), f"L must be a scipy.sparse matrix, got {type(_L).__name__}"
-_diff = abs(sp.csr_matrix(_L) - igl.cotmatrix(_V, _F)).max()
-assert _diff < 1e-10, f"L must equal igl.cotmatrix; they differ by up to {_diff:.3e}"
+_L = sp.csr_matrix(_L)
+assert abs(_L - _L.T).max() < 1e-12 and np.abs(_L @ np.ones(len(_V))).max() < 1e-10, (
+    "L must be symmetric with rows summing to 0"
+    + ("; the diagonal has the wrong sign: L_ii = -Σ_j L_ij" if (_L.diagonal() > 0).all() else "")
+)
+# for the linear function f = x - y/2, -fᵀ L f is ∫‖∇f‖² = 1.25 × area
+_e1, _e2 = _V[_F[:, 1]] - _V[_F[:, 0]], _V[_F[:, 2]] - _V[_F[:, 0]]
+_f = _V @ np.array([1.0, -0.5])
+assert np.isclose(-_f @ (_L @ _f), 1.25 * np.sum(0.5 * np.abs(_e1[:, 0] * _e2[:, 1] - _e1[:, 1] * _e2[:, 0])), rtol=1e-9), (
+    "for f = x - y/2, -fᵀ L f must be ∫‖∇f‖² = 1.25 × the area"
+)
 
 # %% deformlab={"solution": "lbs_matrix"}
 import numpy as np
@@ -221,7 +244,15 @@ _V, _F = load_mesh("character")
 _W = rng.uniform(size=(len(_V), 3))
 _A = lbs_matrix(_V, _W)
 assert _A.shape == (len(_V), 9), f"for m = 3 handles in 2D expected shape {(len(_V), 9)}, got {np.shape(_A)}"
-assert np.abs(_A - igl.lbs_matrix(_V, _W)).max() < 1e-12, "A must equal igl.lbs_matrix"
+_draw = np.random.default_rng(11)  # its own generator: later cells' data stay as they were
+_T = _draw.normal(size=(3, 2, 3))
+_owner = _draw.integers(3, size=len(_V))
+_U = lbs_matrix(_V, np.eye(3)[_owner]) @ _T.transpose(0, 2, 1).reshape(-1, 2)
+assert np.allclose(_U, np.einsum("iab,ib->ia", _T[_owner, :, :2], _V) + _T[_owner, :, 2]), (
+    "with one-hot weight rows, A @ vstack(T_jᵀ) must move each vertex by its own handle's transform"
+    + ("; the translation columns must hold w_ij·1, not 1" if not np.allclose(_A[:, 2::3], _W) else "")
+)
+assert np.allclose(lbs_matrix(_V, 2 * _W), 2 * _A), "A is linear in W: doubling W doubles A"
 
 # %% [markdown]
 # ## 2 · Rotation clusters
@@ -312,8 +343,10 @@ assert np.array_equal(rotation_clusters(_W, 3, seed=1), rotation_clusters(_W, 3,
 
 
 def _is_fixed_point(W, labels):
+    from scipy.spatial.distance import cdist
+
     centres = np.array([W[labels == c].mean(axis=0) for c in range(labels.max() + 1)])
-    d2 = ((W[:, None, :] - centres[None]) ** 2).sum(axis=2)
+    d2 = cdist(W, centres, "sqeuclidean")  # squared distance of every row to every cluster's mean
     return np.all(d2[np.arange(len(W)), labels] <= d2.min(axis=1) + 1e-12)
 
 
@@ -469,6 +502,22 @@ for _bad, _why in (
         pass
     else:
         raise AssertionError(f"fast_precompute must raise ValueError for fixed = {_bad.tolist()}: {_why}")
+# Free transforms the energy cannot determine: the contract asks for a ValueError here too.
+for _args, _why in (
+    ((np.c_[_V, np.zeros(len(_V))], _F, _W, _clusters, np.array([3, 4])),
+     "the character put into the plane z = 0 of 3D (a planar mesh in 3D: how a free transform maps the plane's "
+     "normal moves no vertex)"),
+    ((_V, _F, np.c_[_W, np.zeros(len(_V))], _clusters, np.array([3, 4])),
+     "a sixth handle whose weight column is zero (a vanishing column: its transform moves no vertex)"),
+):
+    try:
+        fast_precompute(*_args)
+    except Exception as _exc:  # noqa: BLE001 - only a plain ValueError is the error asked for
+        if type(_exc) is not ValueError:  # e.g. numpy's LinAlgError (a ValueError) from a failed factorization
+            raise AssertionError(f"{_why}: expected a ValueError that says why, got {type(_exc).__name__}: {_exc} "
+                                 "(check that Q_ff is positive definite before factoring it)") from None
+    else:
+        raise AssertionError(f"fast_precompute must raise ValueError for {_why}: check that Q_ff is positive definite")
 
 # %% deformlab={"solution": "fast_energy"}
 import numpy as np
@@ -499,20 +548,6 @@ def fast_energy(data, T, R):
     ### END SOLUTION
 
 # %% deformlab={"tests": "fast_energy", "points": 2}
-def _direct_energy(V, F, W, T, clusters, R):
-    """Stage 03's energy of U = lbs(V, W, T) with R_i = R[clusters[i]], term by term."""
-    U = np.einsum("ij,jab,ib->ia", W, T, np.hstack([V, np.ones((len(V), 1))]))
-    C = igl.cotmatrix_entries(V, F)
-    E = 0.0
-    for k in range(3):
-        a, b = F[:, (k + 1) % 3], F[:, (k + 2) % 3]
-        e, e_new = V[a] - V[b], U[a] - U[b]
-        for corner in range(3):
-            Ri = R[clusters[F[:, corner]]]
-            E += np.sum(C[:, k] * np.sum((e_new - np.einsum("tij,tj->ti", Ri, e)) ** 2, axis=1))
-    return E
-
-
 _identity = np.tile(np.hstack([np.eye(2), np.zeros((2, 1))]), (5, 1, 1))
 _R_identity = np.tile(np.eye(2), (6, 1, 1))
 _E = fast_energy(_data, _identity, _R_identity)
@@ -520,14 +555,43 @@ assert abs(_E) < 1e-9, (
     f"the rest pose with identity rotations has zero energy, got {_E:.3e}: are fast_precompute's Q, P and constant "
     "on one scale? Every edge counts in the cells of its triangle's three corners: Q = 3 Aᵀ(-L)A"
 )
-_T = _identity + rng.normal(0.0, 0.2, _identity.shape)
+# Exact values from areas: for a triangle, Σ_k ½cot θ_k |e_k|² = 2 · area, and each triangle lies in
+# the cells of its 3 corners. W's rows sum to 1, so T_j = [s I | 0] for every handle gives U = s V.
+_e1, _e2 = _V[_F[:, 1]] - _V[_F[:, 0]], _V[_F[:, 2]] - _V[_F[:, 0]]
+_area = 0.5 * np.abs(_e1[:, 0] * _e2[:, 1] - _e1[:, 1] * _e2[:, 0])
+_E = fast_energy(_data, 1.5 * _identity, _R_identity)
+_want = 6 * 0.5**2 * _area.sum()
+assert np.isclose(_E, _want, rtol=1e-9), (
+    f"U = 1.5 V with every R_c = I: each edge term is C |1.5 e - e|², and a triangle counts in its 3 corners' cells, "
+    f"so E = 3 · 0.25 · Σ_t 2·area_t = {_want:.10g}; got {_E:.10g}"
+    + (" (three times too small: Q = 3 Aᵀ(-L)A)" if np.isclose(3 * _E, _want, rtol=1e-9) else "")
+)
+# U = V with cluster c turned by θ_c: |e - R e|² = 2(1 - cos θ_c)|e|² in every cell of cluster c.
 _angles = rng.uniform(-np.pi, np.pi, 6)
 _R = np.stack([[[np.cos(_a), -np.sin(_a)], [np.sin(_a), np.cos(_a)]] for _a in _angles])
-_want = _direct_energy(_V, _F, _W, _T, _clusters, _R)
-_E = fast_energy(_data, _T, _R)
+_star = np.bincount(_F.ravel(), weights=np.repeat(_area, 3), minlength=len(_V))  # area of the triangles around i
+_want = np.sum(4 * (1 - np.cos(_angles[_clusters])) * _star)
+_E = fast_energy(_data, _identity, _R)
 assert np.isclose(_E, _want, rtol=1e-9), (
-    f"for random transforms and cluster rotations the energy is {_want:.10g}, got {_E:.10g} "
-    "(every edge counts in the cells of its triangle's three corners: Q = 3 Aᵀ(-L)A)"
+    f"U = V with cluster c's cells turned by θ_c: E = Σ_i 4(1 - cos θ_c(i)) · (area around i) = {_want:.10g}, "
+    f"got {_E:.10g}: vertex i's cell uses R[clusters[i]]"
+)
+# For fixed R the energy is quadratic in T, and only its linear part depends on R:
+# E(T + D) + E(T - D) - 2 E(T) is the same for every T and R.
+_T = _identity + rng.normal(0.0, 0.2, _identity.shape)
+_D = rng.normal(0.0, 0.1, _identity.shape)
+_second = [fast_energy(_data, _X + _D, _Rs) + fast_energy(_data, _X - _D, _Rs) - 2 * fast_energy(_data, _X, _Rs)
+           for _X, _Rs in ((_T, _R), (_identity, _R_identity))]
+assert np.isclose(_second[0], _second[1], rtol=1e-7), (
+    f"E(T + D) + E(T - D) - 2 E(T) must not depend on T or R (E is quadratic in T), got {_second[0]:.10g} and "
+    f"{_second[1]:.10g}"
+)
+# Turning the whole pose by G (every transform and every cluster rotation) changes nothing.
+_G = np.array([[0.6, -0.8], [0.8, 0.6]])
+_E = fast_energy(_data, _T, _R)
+assert np.isclose(fast_energy(_data, _G @ _T, _G @ _R), _E, rtol=1e-9), (
+    "turning every transform and every cluster rotation by the same rotation G must keep the energy: "
+    "is each edge term |e' - R_c e|² with R_c applied to the rest edge e?"
 )
 
 # %% [markdown]

@@ -206,7 +206,10 @@ elif np.allclose(_L, 6 * _want):
 assert np.allclose(_L, _want), f"unit corner tetrahedron: expected 1/6 ×\n{6 * _want}\ngot 1/6 ×\n{np.round(6 * _L, 4)}{_hint}"
 _L = sp.csr_matrix(tet_cotangent_laplacian(V_hand, T_hand))
 assert abs(_L - _L.T).max() < 1e-12 and np.abs(_L @ np.ones(len(V_hand))).max() < 1e-10, "L must be symmetric with rows summing to 0"
-assert abs(_L - igl.cotmatrix(V_hand, T_hand)).max() < 1e-10, "L differs from igl.cotmatrix(V, T) on the hand"
+_G = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])  # a rotation
+assert abs(sp.csr_matrix(tet_cotangent_laplacian(2.0 * V_hand @ _G.T + 1.0, T_hand)) - 2.0 * _L).max() < 1e-10, (
+    "moving the hand rigidly and scaling it by 2 must scale L by 2 (|vol| ∇φ_i·∇φ_j has the units of a length)"
+)
 _u = V_hand @ np.array([1.0, -2.0, 0.5])  # a linear function: its gradient (1, -2, 0.5) everywhere
 assert np.isclose(-_u @ (_L @ _u), 5.25 * 0.704), "for linear u, -uᵀ L u = ∫ ‖∇u‖² = ‖∇u‖² × volume (0.704)"
 
@@ -255,7 +258,8 @@ assert np.allclose(np.diag(_M), [1 / 24, 1 / 8, 1 / 8, 1 / 8, 1 / 12]), (
 )
 _M = sp.csr_matrix(tet_mass_matrix(V_hand, T_hand))
 assert np.isclose(_M.sum(), 0.704), f"the masses sum to the hand's volume 0.704, got {_M.sum():.6g}"
-assert abs(_M - igl.massmatrix(V_hand, T_hand)).max() < 1e-14, "M differs from igl.massmatrix(V, T) on the hand"
+_M2 = sp.csr_matrix(tet_mass_matrix(2.0 * V_hand + 1.0, T_hand))
+assert abs(_M2 - 8.0 * _M).max() < 1e-12, "scaling the hand by 2 (and moving it) must multiply every mass by 8"
 
 # %% [markdown]
 # ## 3 · ARAP with tetrahedral cells

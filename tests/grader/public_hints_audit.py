@@ -31,16 +31,26 @@ NOTEBOOKS = ROOT / "notebooks" / "deformation"
 BUGGY = ROOT / "tests" / "corpus" / "buggy"
 TIMEOUT = 300
 
-#: entry -> words its public tests' message must contain (one of each tuple). Entries missing here
-#: have no hint yet; the comment says why.
+#: entry -> words its public tests' message must contain (one of each tuple); every buggy entry has one
+#: (tests/grader/test_public_hints.py).
 HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
+    "arap_rotations_transposed": (("you return Qᵀ",),),
+    "bbw_active_set_never_releases": (("release a held value",),),
     "bbw_clip_unconstrained": (("clipping is feasible but not optimal",),),
-    # bbw_no_upper_bound: non-negative weights normalized to sum 1 are <= 1 anyway; only the energy
-    # tells, by 0.5-3.5 %, and the public tests have no oracle to compare it with
+    "bbw_no_upper_bound": (("0 ≤ w ≤ 1",),),
     "bbw_not_normalized": (("normalize",),),
     "biharmonic_without_mass": (("M⁻¹ is missing",),),
     "boundary_directed_half_edges": (("oriented alike",),),
     "boundary_edges_not_loops": (("count the loops",),),
+    "cascade_centroid_in_rigid_align": (("the weights are ignored",),),
+    "cascade_cot_not_halved_in_bbw": (("that is cot, not ½cot",),),
+    "cascade_cot_not_halved_in_fast": (("that is cot, not ½cot",),),
+    "cascade_covariance_in_rigid_align": (("subtract the centroids",),),
+    "cascade_laplacian_sign_in_bbw": (("the diagonal has the wrong sign",),),
+    "cascade_laplacian_sign_in_fast": (("the diagonal has the wrong sign",),),
+    "cascade_lbs_matrix_in_fast": (("w_ij·1, not 1",),),
+    "cascade_sign_from_det_in_arap": (("det(S) = 0 says nothing",),),
+    "cascade_sign_from_det_in_fast": (("det(S) = 0 says nothing",),),
     "centroid_ignores_weights": (("weights are ignored",),),
     "cot_not_halved": (("not ½cot",),),
     "cot_signed_area": (("|a × b|",),),
@@ -48,22 +58,26 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "covariance_edges_swapped": (("instead of Σ c e e'ᵀ",),),
     "covariance_not_centred": (("subtract the centroids",),),
     "covariance_spokes_only": (("all three of its edges",),),
+    "deformation_gradients_transposed": (("transposed",),),
     "dqs_blends_matrices": (("linear blend skinning",),),
     "dqs_without_pivot_flip": (("flip the dual quaternions",),),
     "dual_quaternion_transforms_rotation_transposed": (("transposed",),),
+    "dual_quaternions_accepts_non_rotation": (("raise a ValueError naming T[1]",),),
     "dual_quaternions_divide_by_w": (("w = 0",),),
-    "deformation_gradients_transposed": (("transposed",),),
     "edges_as_floats": (("integer",),),
     "edges_not_deduplicated": (("remove duplicates",),),
     "energy_unit_weights": (("without the weights",),),
+    "euler_characteristic_signs_swapped": (("the signs are swapped",),),
     "fast_clusters_empty_never_refilled": (("refill a cluster",),),
     "fast_clusters_single_assignment": (("until no label changes",),),
+    "fast_energy_without_constant": (("Q, P and constant",),),
     "fast_global_step_translations_only": (("not only their translations",),),
-    "fast_step_rotations_transposed": (("transposed rotations",),),
+    "fast_precompute_without_definiteness_check": (("positive definite",),),
     "fast_precompute_without_factor_3": (("Q = 3 Aᵀ(-L)A",),),
     "fast_rotations_vertex_average": (("not the cluster's best rotation",),),
     "fast_solve_energy_before_global": (("rotations of iteration k's local step",),),
     "fast_solve_keeps_t0_fixed_rows": (("before the first local step",),),
+    "fast_step_rotations_transposed": (("transposed rotations",),),
     "genus_ignores_components": (("connected component",),),
     "global_step_soft_handles": (("must equal handle_positions exactly",),),
     "global_step_spokes_rhs": (("mean rotation of each triangle",),),
@@ -73,15 +87,17 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "laplacian_editing_uniform": (("not the uniform graph Laplacian",),),
     "lbs_ignores_translation": (("t_j = T[j, :, d]",),),
     "lbs_matrix_one_first": (("the 1 goes last",),),
+    "lbs_matrix_translation_unweighted": (("the 1 is weighted too",),),
     "no_sign_correction": (("correct the sign",),),
     "orthogonal_transposed": (("transpose",),),
     "precompute_handles_deduplicated": (("np.unique would also sort",),),
     "rotation_transposed_in_arap": (("transposed",),),
     "sign_flip_largest": (("smallest singular value",),),
     "sign_from_det_of_s": (("det(S) = 0 says nothing",),),
+    "sign_from_det_of_s_zero_as_positive": (("det(S) = 0 says nothing",), ("which is -1 here",)),
     "solve_energy_before_global": (("rotations the global step used",),),
     "solve_keeps_u0_handles": (("before the first local step",),),
-    "translation_between_centroids": (("q̄ - R p̄",),),
+    "tet_arap_precompute_accepts_bad_handles": (("must raise ValueError",),),
     "tet_biharmonic_without_mass": (("M⁻¹ is missing",),),
     "tet_energy_unweighted": (("per unit volume",),),
     "tet_global_step_rotations_transposed": (("not its transpose",),),
@@ -90,6 +106,7 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "tet_mass_signed_volumes": (("use |vol|",),),
     "tet_rotations_no_sign_correction": (("flip the singular vector",),),
     "tet_volumes_unsigned": (("keep the sign",),),
+    "translation_between_centroids": (("q̄ - R p̄",),),
 }
 
 
@@ -127,6 +144,12 @@ def public_failures(notebook: str, solutions: dict[str, str], functions: set[str
     return found
 
 
+def hinted(name: str, messages: dict[str, str]) -> list[str]:
+    """The functions whose first failing public assertion holds entry ``name``'s ``HINTS``."""
+    words = HINTS.get(name)
+    return [f for f, m in messages.items() if m and words and all(any(w in m for w in group) for group in words)]
+
+
 def _audit_one(path: Path) -> dict:
     entry = load_entry(path)
     return public_failures(entry.notebook, entry.solutions, set(entry.solutions) | set(entry.loses))
@@ -151,12 +174,11 @@ def main(argv: list[str]) -> int:
             print(f"{entry.name:<42} ?       {why}")
             missing += 1
             continue
-        words = HINTS.get(entry.name)
         failed = {f: m for f, m in messages.items() if m}
-        hinted = [f for f, m in failed.items() if words and all(any(w in m for w in group) for group in words)]
-        missing += not hinted
-        status = "ok" if hinted else ("PASSES" if not failed else "NO HINT")
-        function = hinted[0] if hinted else next(iter(failed), ", ".join(entry.solutions))
+        found = hinted(entry.name, messages)
+        missing += not found
+        status = "ok" if found else ("PASSES" if not failed else "NO HINT")
+        function = found[0] if found else next(iter(failed), ", ".join(entry.solutions))
         print(f"{entry.name:<42} {status:<7} {function}: {failed.get(function, '')[:300]!r}")
     print(f"{len(paths)} entries, {missing} without a hint")
     return 1 if missing else 0

@@ -88,15 +88,31 @@ def test_dual_quaternions_of_either_sign_per_handle_are_accepted():
     assert grade("dual_quaternions", alternating_signs).fraction == 1.0
 
 
+def _via_scipy(T):
+    q = Rotation.from_matrix(T[:, :, :3]).as_quat()[:, [3, 0, 1, 2]]
+    t = np.c_[np.zeros(len(T)), T[:, :, 3]]
+    w1, v1, w2, v2 = t[:, 0], t[:, 1:], q[:, 0], q[:, 1:]
+    qe = 0.5 * np.c_[w1 * w2 - np.einsum("ij,ij->i", v1, v2), w1[:, None] * v2 + w2[:, None] * v1 + np.cross(v1, v2)]
+    return np.stack([q, qe], axis=1)
+
+
 def test_dual_quaternions_through_scipy_are_accepted():
     def via_scipy(T):
-        q = Rotation.from_matrix(T[:, :, :3]).as_quat()[:, [3, 0, 1, 2]]
-        t = np.c_[np.zeros(len(T)), T[:, :, 3]]
-        w1, v1, w2, v2 = t[:, 0], t[:, 1:], q[:, 0], q[:, 1:]
-        qe = 0.5 * np.c_[w1 * w2 - np.einsum("ij,ij->i", v1, v2), w1[:, None] * v2 + w2[:, None] * v1 + np.cross(v1, v2)]
-        return np.stack([q, qe], axis=1)
+        R = T[:, :, :3]
+        bad = (np.abs(np.einsum("jki,jkl->jil", R, R) - np.eye(3)).max(axis=(1, 2)) > 1e-6) | (np.linalg.det(R) < 0)
+        if bad.any():
+            raise ValueError(f"T[{int(np.argmax(bad))}] is not rigid")
+        return _via_scipy(T)
 
     assert grade("dual_quaternions", via_scipy).fraction == 1.0
+
+
+def test_dual_quaternions_without_the_contracts_check_lose_exactly_the_cases_that_must_raise():
+    # scipy's from_matrix orthogonalizes a scaled matrix quietly (and refuses a reflection on its own)
+    result = grade("dual_quaternions", _via_scipy)
+    failed = [c.label for c in result.cases if not c.passed]
+    assert failed == ["T[1]'s 3x3 part is a rotation scaled by 1.5 (not rigid)"], failed
+    assert "returned a result instead of raising ValueError" in details(result)
 
 
 def test_dqs_with_a_loop_over_vertices_and_the_pivot_flipped_per_vertex_is_accepted():

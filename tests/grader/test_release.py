@@ -11,6 +11,7 @@ from grader.build.release import (
     DEMO,
     ReleaseReport,
     check_demo_execution,
+    public_lines,
     reference_body,
     release,
     scan_for_leaks,
@@ -155,3 +156,40 @@ def test_the_bundles_readme_names_every_notebook_its_files_are_readable_and_its_
     assert wanted and all(">" not in v for v in wanted.values())
     assert {n: v for n, v in wanted.items() if n in pins} == {n: pins[n] for n in wanted if n in pins}
     assert {"numpy", "scipy", "libigl", "pyvista"} <= set(pins) & set(wanted)
+
+
+def _notebook(*cells) -> str:
+    return nbformat.writes(nbformat.v4.new_notebook(cells=list(cells)))
+
+
+def test_the_leak_scan_refuses_one_line_of_a_reference_body_in_a_provided_cell():
+    provided = nbformat.v4.new_code_cell(
+        "import numpy as np\n\n\ndef ratio(dot, double_area):\n    return 0.5 * dot / double_area[:, None]\n"
+    )
+    problems = scan_for_leaks({"release/03_arap.ipynb": _notebook(provided)}, public=public_lines(CoursePaths(ROOT)))
+    assert problems == [
+        "release/03_arap.ipynb contains the code of reference cotangent_weights: 'return 0.5 * dot / double_area[:, None]' (1 lines)"
+    ]
+
+
+def test_the_leak_scan_refuses_a_markdown_hint_quoting_the_sign_fix():
+    teaching = teaching_bodies(ROOT / "notebooks", "deformation")
+    for quote, body in (
+        ("V_tilde[..., -1]  *=  sign[..., None]", "teaching optimal_rotation (02_sign_correction)"),  # spacing changed
+        ("Vt[np.linalg.det(U @ Vt) < 0, -1, :] *= -1.0", "reference optimal_rotation"),
+    ):
+        hint = nbformat.v4.new_markdown_cell(f"**Hint.** Flip the last singular vector where needed: `{quote}` does it.")
+        problems = scan_for_leaks({"release/02_sign_correction.ipynb": _notebook(hint)}, teaching, public_lines(CoursePaths(ROOT)))
+        assert any(p.startswith(f"release/02_sign_correction.ipynb contains the code of {body}: ") for p in problems), problems
+
+
+def test_the_leak_scan_ignores_lines_public_code_also_has():
+    shared = "W = weights(V)\nreturn W / W.sum(axis=1, keepdims=True)\n"  # row normalization, also in starter/
+    assert "return W / W.sum(axis=1, keepdims=True)" in public_lines(CoursePaths(ROOT))
+    assert scan_for_leaks({"release/04_bbw.ipynb": shared}, public=public_lines(CoursePaths(ROOT))) == []
+    assert scan_for_leaks({"release/04_bbw.ipynb": shared}) != [], "without the public lines the same line is a leak"
+
+
+def test_the_leak_scan_ignores_a_call_of_a_contract_function_and_comments():
+    text = "data = arap_precompute(V, F, handles)\n# U = arap_global_step(data, R, handle_positions) and so on\n"
+    assert scan_for_leaks({"release/03_arap.ipynb": text}) == []

@@ -7,6 +7,9 @@ from scipy.spatial.transform import Rotation
 
 def dual_quaternions(T):
     T = np.asarray(T, dtype=float)
+    for j in range(len(T)):  # scipy's from_matrix would quietly orthogonalize a scaled matrix
+        if not np.allclose(T[j, :, :3].T @ T[j, :, :3], np.eye(3), atol=1e-6) or np.linalg.det(T[j, :, :3]) < 0:
+            raise ValueError(f"T[{j}] is not a rigid transform")
     q = Rotation.from_matrix(T[:, :, :3]).as_quat()[:, [3, 0, 1, 2]]
     t = T[:, :, 3]
     w, v = q[:, 0], q[:, 1:]
