@@ -121,6 +121,8 @@ assert np.allclose(_A, _expected), (
     f"got {np.round(_A, 6).ravel().tolist()}"
     + (": the 1 goes last, [v_i; 1]" if np.allclose(_A, [[0.25, 0.25, 0.5, 0.75, 0.75, 1.5]]) else "")
     + (": the 1 is weighted too, W[i, j]·1" if np.allclose(_A, [[0.25, 0.5, 1.0, 0.75, 1.5, 1.0]]) else "")
+    + (": the columns go handle by handle, not coordinate by coordinate"
+       if np.allclose(_A, [[0.25, 0.75, 0.5, 1.5, 0.25, 0.75]]) else "")
 )
 
 _V, _F = load_mesh("character")

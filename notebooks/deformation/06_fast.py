@@ -250,7 +250,9 @@ _owner = _draw.integers(3, size=len(_V))
 _U = lbs_matrix(_V, np.eye(3)[_owner]) @ _T.transpose(0, 2, 1).reshape(-1, 2)
 assert np.allclose(_U, np.einsum("iab,ib->ia", _T[_owner, :, :2], _V) + _T[_owner, :, 2]), (
     "with one-hot weight rows, A @ vstack(T_jᵀ) must move each vertex by its own handle's transform"
-    + ("; the translation columns must hold w_ij·1, not 1" if not np.allclose(_A[:, 2::3], _W) else "")
+    + ("; the columns go handle by handle: the first three are w_i1·[v_i; 1]"
+       if not np.allclose(_A[:, :2], _W[:, :1] * _V)
+       else "; the translation columns must hold w_ij·1, not 1" if not np.allclose(_A[:, 2::3], _W) else "")
 )
 assert np.allclose(lbs_matrix(_V, 2 * _W), 2 * _A), "A is linear in W: doubling W doubles A"
 
