@@ -18,6 +18,7 @@ from pathlib import Path
 import nbformat
 
 from grader.build.authored import AuthoredNotebook, AuthoringError, read_authored
+from grader.contract import STAGES, stage_functions
 from starter import library_policy
 
 BEGIN_HIDDEN = "### BEGIN HIDDEN TESTS"
@@ -77,9 +78,36 @@ POLICY_INSTALL = (
 )
 
 
+def grading_rules(notebook: str, functions: list[str]) -> str:
+    """How the notebook's functions are graded: each on its own work (``grader/checks/callees.py``), once."""
+    graded = set(stage_functions(notebook)) if notebook in STAGES else set(functions)
+    copied = [f for f in functions if f not in graded]
+    lines = [
+        "**How your functions are graded.** Each function is graded on its own work, on hidden inputs.",
+        "When one of your functions calls another function of the course, a mistake in the one it calls",
+        "costs that function's points only: the grader records what your callee returned and judges the",
+        "caller against the reference run on those same outputs. A bug is charged once.",
+    ]
+    if copied:
+        lines.append(
+            "The functions you copy over from an earlier stage ("
+            + ", ".join(f"`{f}`" for f in copied)
+            + ") earn no points here: they were graded in their own stage."
+        )
+    for f in functions:
+        if f.endswith("_precompute") and f in graded:
+            step = f.replace("_precompute", "_global_step")
+            lines.append(
+                f"What `{f}` returns is your own design: it is checked through your own `{step}`, and the"
+                " functions that take it as input are graded with it, so a mistake in it (or in the global"
+                " step) costs each of them."
+            )
+    return "\n".join(lines)
+
+
 def policy_cells(notebook: str, functions: list[str]) -> list[nbformat.NotebookNode]:
-    """The policy of the notebook's functions (from ``starter.library_policy``'s table) and the cell that installs it."""
-    text = library_policy.markdown(functions)
+    """How the notebook is graded and its library policy (``starter.library_policy``'s table), and the cell that installs the policy."""
+    text = grading_rules(notebook, functions) + "\n\n" + library_policy.markdown(functions)
     # the install cell's grade id is the notebook's own: a grade id shared by every notebook would
     # let another stage's notebook pass for this one (sanitize matches submissions by grade ids)
     return [nbformat.v4.new_markdown_cell(text), _provided_cell(POLICY_INSTALL, 0, salt=notebook)]

@@ -112,7 +112,8 @@ def test_the_library_policy_follows_the_first_text_and_every_tests_cell_checks_i
     from starter.library_policy import markdown
 
     nb = build_source_notebook(read_authored(write(tmp_path, CENTROID + CENTROID_TESTS)))
-    assert nb.cells[1].source == markdown(["centroid"])
+    assert nb.cells[1].source.startswith("**How your functions are graded.**")
+    assert nb.cells[1].source.endswith("\n\n" + markdown(["centroid"]))
     assert "library_policy.install()" in nb.cells[2].source and nb.cells[2].metadata["nbgrader"]["locked"]
     tests = next(c for c in nb.cells if c.metadata.get("nbgrader", {}).get("grade_id") == "test_centroid")
     public = tests.source.split("### BEGIN HIDDEN TESTS")[0].strip().splitlines()
@@ -120,3 +121,13 @@ def test_the_library_policy_follows_the_first_text_and_every_tests_cell_checks_i
     assert public[-1] == "_library_policy.verdict('centroid')"
     other = build_source_notebook(read_authored(write(tmp_path, CENTROID + CENTROID_TESTS, "10_other")))
     assert other.cells[2].metadata["nbgrader"]["grade_id"] != nb.cells[2].metadata["nbgrader"]["grade_id"]
+
+
+def test_each_notebook_says_how_a_bug_is_charged_and_which_copied_functions_earn_nothing():
+    from grader.build.source_notebook import grading_rules
+
+    arap = grading_rules("03_arap", ["optimal_rotation", "cotangent_weights", "arap_precompute", "arap_global_step"])
+    assert "A bug is charged once." in arap
+    assert "(`optimal_rotation`) earn no points here" in arap
+    assert "`arap_precompute` returns is your own design: it is checked through your own `arap_global_step`" in arap
+    assert "earn no points here" not in grading_rules("00_meshes", ["edges", "genus"])
