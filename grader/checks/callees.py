@@ -122,7 +122,7 @@ def _tet_arap_precompute(f, V, T, handles):
     """``tet_arap_precompute`` with the course's Laplacian and volumes in place of the reference's own."""
     from reference import tetrahedra
 
-    data = tetrahedra.tet_arap_precompute(V, T, handles)
+    data = _pure(tetrahedra.tet_arap_precompute, (V, T, handles), {})
     L = sp.csr_matrix(f.tet_cotangent_laplacian(V, T), dtype=float)
     data.volumes = np.abs(np.asarray(f.tet_volumes(V, T), dtype=float))
     data.L = L
@@ -249,6 +249,7 @@ class _Replay:
     seed: int
     substituted: set[str] = field(default_factory=set)  # callees whose student output differed from the reference's
     _trees: dict = field(default_factory=dict)
+    _composing: set = field(default_factory=set)
 
     def call(self, name: str, fn: Callable, args: tuple, kwargs: dict):
         if name == self.caller:
@@ -270,8 +271,12 @@ class _Replay:
                     return call.output
         # not called on these arguments (or not readable, as a precomputation object): the reference's
         # own, as the caller's contract defines it in terms of the callees that may be substituted
-        if name in COMPOSITIONS:
-            return COMPOSITIONS[name][0](_Callees(), *args, **kwargs)
+        if name in COMPOSITIONS and name not in self._composing:  # a composition may call its own reference
+            self._composing.add(name)
+            try:
+                return COMPOSITIONS[name][0](_Callees(), *args, **kwargs)
+            finally:
+                self._composing.discard(name)
         return fn(*args, **kwargs)
 
     def _batched(self, name: str, fn: Callable, args: tuple, kwargs: dict):

@@ -123,6 +123,7 @@ assert np.allclose(_A, _expected), (
     + (": the 1 is weighted too, W[i, j]·1" if np.allclose(_A, [[0.25, 0.5, 1.0, 0.75, 1.5, 1.0]]) else "")
     + (": the columns go handle by handle, not coordinate by coordinate"
        if np.allclose(_A, [[0.25, 0.75, 0.5, 1.5, 0.25, 0.75]]) else "")
+    + (": the weight enters once, w_ij·[v_i; 1]" if np.allclose(_A, [[0.0625, 0.125, 0.0625, 0.5625, 1.125, 0.5625]]) else "")
 )
 
 _V, _F = load_mesh("character")

@@ -254,7 +254,10 @@ assert np.allclose(_U, np.einsum("iab,ib->ia", _T[_owner, :, :2], _V) + _T[_owne
        if not np.allclose(_A[:, :2], _W[:, :1] * _V)
        else "; the translation columns must hold w_ij·1, not 1" if not np.allclose(_A[:, 2::3], _W) else "")
 )
-assert np.allclose(lbs_matrix(_V, 2 * _W), 2 * _A), "A is linear in W: doubling W doubles A"
+assert np.allclose(lbs_matrix(_V, 2 * _W), 2 * _A), (
+    "A is linear in W: doubling W doubles A"
+    + ("; the weight enters once, w_ij·[v_i; 1]" if np.allclose(lbs_matrix(_V, 2 * _W), 4 * _A) else "")
+)
 
 # %% [markdown]
 # ## 2 · Rotation clusters
