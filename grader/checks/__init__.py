@@ -188,7 +188,9 @@ def evaluate(
                     continue
             result.cases.append(CaseResult(case.label, verdicts, seconds=out.seconds))
         except ShapeError as exc:
-            result.cases.append(CaseResult(case.label, [Verdict("output shape", False, str(exc))], seconds=out.seconds))
+            given = _own_work(checks, case, out, seed)  # a callee's wrong shape can make the caller's wrong too
+            verdicts = [Verdict("own work", True)] if given else [Verdict("output shape", False, str(exc))]
+            result.cases.append(CaseResult(case.label, verdicts, seconds=out.seconds, own_work_of=given))
         except Exception as exc:  # noqa: BLE001 - unforeseen output the checks could not digest
             result.cases.append(
                 CaseResult(case.label, [Verdict("readable output", False, f"{type(exc).__name__}: {exc}")], seconds=out.seconds)

@@ -160,6 +160,8 @@ def test_the_collector_gives_the_student_s_functions_back_after_a_collection(tmp
 def test_every_composition_is_the_reference_when_nothing_is_substituted(function):
     cases, expected = seeded_cases(function, 3)
     for case, ref in zip(cases, expected):
+        if "raises" in case.context:  # a contract promise for bad input: nothing to compose
+            continue
         composed = run_steps(case, callees._resolve)
         assert callees.matches_own_work(composed, ref), case.label
 
