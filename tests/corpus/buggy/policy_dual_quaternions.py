@@ -7,6 +7,9 @@ from scipy.spatial.transform import RigidTransform
 
 def dual_quaternions(T):
     T = np.asarray(T, dtype=float)
+    for j, R in enumerate(T[:, :, :3]):
+        if not (np.allclose(R.T @ R, np.eye(3), atol=1e-6) and np.isclose(np.linalg.det(R), 1.0, atol=1e-6)):
+            raise ValueError(f"T[{j}] is not a rigid transform: its 3x3 part is not a rotation")
     M = np.tile(np.eye(4), (len(T), 1, 1))
     M[:, :3, :] = T
     return RigidTransform.from_matrix(M).as_dual_quat(scalar_first=True).reshape(-1, 2, 4)
