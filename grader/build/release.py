@@ -506,7 +506,7 @@ def write_bundle(paths: CoursePaths, assignment: str) -> Path:
         z.writestr(_readable(f"{root}/requirements.txt"), student_requirements(paths))
         z.writestr(_readable(f"{root}/README.md"), STUDENT_README)
         z.write(student_check.__file__, f"{root}/check_notebook.py")
-        z.writestr(f"{root}/LIBRARY_POLICY.md", student_library_policy())
+        z.writestr(_readable(f"{root}/LIBRARY_POLICY.md"), student_library_policy())
     tmp.replace(target)
     return target
 

@@ -17,7 +17,8 @@ def test_is_the_global_step_with_identity_rotations(mesh_and_handles, mesh, seed
     U = laplacian_editing(V, F, handles, target)
     np.testing.assert_array_equal(U[handles], target)
     expected = arap_global_step(arap_precompute(V, F, handles), np.tile(np.eye(d), (n, 1, 1)), target)
-    np.testing.assert_allclose(U, expected, rtol=0, atol=1e-14)
+    # CHOLMOD's supernodal solves may round differently from one factorization to the next (~1e-14)
+    np.testing.assert_allclose(U, expected, rtol=0, atol=1e-12 * max(1.0, np.abs(expected).max()))
 
 
 @settings(max_examples=20, deadline=None)

@@ -95,10 +95,12 @@ def test_a_collusion_pass_that_fails_costs_only_the_collusion_section(graded_cla
     assert _sections(html) == list(SECTIONS) and "This section is missing:</strong> the collusion pass failed" in html
 
 
-def test_deformlab_report_tells_the_ta_about_the_cut(huge_class, tmp_path, capsys):
+def test_deformlab_report_tells_the_ta_about_the_cut(huge_class, tmp_path, capsys, monkeypatch):
     from grader.cli import main
 
     paths, submitted, out, _ = huge_class
+    # --course sets DEFORMLAB_ROOT for the process: undone after the test, so later tests see the checkout
+    monkeypatch.setenv("DEFORMLAB_ROOT", str(paths.root))
     assert main(["--course", str(paths.root), "report", str(out), "--submitted", str(submitted), "--to", str(tmp_path / "r")]) == 0
     assert capsys.readouterr().out.strip().endswith("(1 pair(s) with collusion evidence; 1 submission(s) cut at the code cap)")
     assert f"ada's solution code in {NOTEBOOK} was cut at" in (tmp_path / "r" / "index.html").read_text()
