@@ -19,6 +19,7 @@ import nbformat
 import numpy as np
 
 from grader.contract import is_bonus
+from grader.pipeline import feedback_view
 from grader.pipeline.verify import graded_cells, hidden_cases
 
 PICTURED = ("arap_solve", "laplacian_editing", "bbw", "unconstrained_biharmonic_weights")
@@ -76,6 +77,12 @@ def _picture(caption: str, alt: str, fig) -> dict:
     return {"caption": caption, "alt": alt, "png": _png(fig)}
 
 
+def _with_view(function: str, case, value, ref, pics: list[dict]) -> list[dict]:
+    """``pics`` with the interactive view of the same case beside the first (grader/pipeline/feedback_view.py)."""
+    pics[0]["view"] = feedback_view.view_for(function, case, value, ref)
+    return pics
+
+
 def _pictures(function: str, seed: int, collected) -> list[dict]:
     """Pictures (caption, alt text, base64 PNG) of the first readable hidden case of a pictured function."""
     if function not in PICTURED or collected is None:
@@ -112,21 +119,21 @@ def _pictures(function: str, seed: int, collected) -> list[dict]:
                     f"Line plot of the ARAP energy per iteration: {len(energies)} values of yours, {len(ref[1])} of the reference.",
                     fig,
                 ))
-                return pics
+                return _with_view(function, case, out.value, ref, pics)
             if function == "laplacian_editing":
-                return [_picture(
+                return _with_view(function, case, out.value, ref, [_picture(
                     f"{function}, {case.label}: your edited mesh (left) beside the reference's (right).",
                     f"Two meshes side by side: the result of your {function} and the reference's, on hidden case {case.label}.",
                     _pair_figure(np.asarray(out.value, float), np.asarray(ref), F, titles=("your laplacian_editing", "reference")),
-                )]
+                )])
             W, W_ref = np.asarray(out.value, float), np.asarray(ref, float)
             if V.shape[1] == 2 and W.shape == W_ref.shape:
-                return [_picture(
+                return _with_view(function, case, out.value, ref, [_picture(
                     f"{function}, {case.label}: weight of handle 1 on every vertex, yours (left) beside the reference's (right); "
                     "blue is 0, red is 1, darker colours lie outside [0, 1].",
                     f"Two colour maps of the weight of handle 1 over the mesh: yours and the reference's, on hidden case {case.label}.",
                     _pair_figure(V, V, F, W[:, 0], W_ref[:, 0], titles=(f"your {function}", "reference"), label="weight of handle 1"),
-                )]
+                )])
         except Exception:  # noqa: BLE001 - a picture of malformed output is not worth failing feedback for
             continue
     return []
@@ -190,4 +197,5 @@ def feedback_html(spec, results: list, notes: list[str]) -> str:
         notes=notes,
         functions=functions,
         pictures=pictures,
+        **feedback_view.page_context(pictures),
     )
