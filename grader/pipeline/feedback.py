@@ -83,8 +83,9 @@ def _with_view(function: str, case, value, ref, pics: list[dict]) -> list[dict]:
     return pics
 
 
-def _pictures(function: str, seed: int, collected) -> list[dict]:
-    """Pictures (caption, alt text, base64 PNG) of the first readable hidden case of a pictured function."""
+def _pictures(function: str, seed: int, collected, result=None) -> list[dict]:
+    """Pictures (caption, alt text, base64 PNG) of the first readable hidden case of a pictured function,
+    a failed one first when ``result`` (its FunctionResult) says which failed."""
     if function not in PICTURED or collected is None:
         return []
     import matplotlib
@@ -93,7 +94,9 @@ def _pictures(function: str, seed: int, collected) -> list[dict]:
     import matplotlib.pyplot as plt
 
     cases, expected = hidden_cases(function, seed)
-    for case, out, ref in zip(cases, collected.cases, expected):
+    failed = [not c.passed for c in result.cases] if result is not None and len(result.cases) == len(cases) else [False] * len(cases)
+    # A picture of a passing case (the same as the reference's to 1e-15) shows the student nothing.
+    for _, case, out, ref in sorted(zip(failed, cases, collected.cases, expected), key=lambda row: not row[0]):
         if out.error is not None:
             continue
         try:
@@ -182,7 +185,7 @@ def feedback_html(spec, results: list, notes: list[str]) -> str:
         }
         for cell, r, _ in results
     ]
-    pictures = [p for cell, _, collected in results for p in _pictures(cell.function, spec.seed, collected)]
+    pictures = [p for cell, r, collected in results for p in _pictures(cell.function, spec.seed, collected, r)]
     return template("feedback.html.j2").render(
         student_id=spec.student_id,
         notebook=spec.notebook,

@@ -238,3 +238,14 @@ def test_a_nan_or_string_output_reaches_no_view_on_the_page(kind):
     assert scripts(text) == [] and "<script>alert" not in text and 'class="dl-interactive"' not in text
     if kind == "NaN":  # matplotlib still draws the picture; the view beside it says why it is missing
         assert '<p class="dl-note">No interactive view: your output is not a finite numeric array of shape (44, 2).</p>' in text
+
+
+def test_the_picture_and_the_view_show_a_failed_case_rather_than_the_first():
+    cases, expected = hidden_cases("laplacian_editing", SEED)
+    wrong = cases[2]
+    text = page({"laplacian_editing": lambda case, ref: _planted_output("laplacian_editing", case, ref) if case is wrong
+                 else np.asarray(ref, float)})
+    captions = re.findall(r"<figcaption>([^<]*)</figcaption>", text)
+    assert captions and captions[0].startswith(f"laplacian_editing, {html.escape(wrong.label)}:")
+    description = html.unescape(re.search(r'class="dl-description"[^>]*>([^<]*)', text).group(1))
+    assert description.startswith(f"Largest difference from the reference's position: {0.31 * np.sqrt(2):.3g} at vertex 3")
