@@ -5,7 +5,8 @@ autoescaping on: everything a student's kernel produced (messages, labels,
 their id) is text on that page, never markup. Pictures are drawn here, in the
 grading process, from the student's collected outputs and the reference's
 outputs on the same hidden input: the student's deformation beside the
-reference's, both energy curves, both weight fields.
+reference's, both energy curves, both weight fields; beside the first, an
+interactive view of the same case (``grader/pipeline/feedback_view.py``).
 """
 
 from __future__ import annotations

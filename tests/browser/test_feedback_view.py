@@ -22,6 +22,8 @@ from grader.pipeline.unit import UnitSpec
 from grader.pipeline.verify import GradedCell, hidden_cases, verify
 
 SEED = 11
+# Seconds in all, but a busy machine may be slow to start Chromium.
+pytestmark = pytest.mark.timeout(180)
 
 
 def drawn_fraction(png: bytes) -> float:
