@@ -28,12 +28,9 @@ matplotlib otherwise, with the same check and warning as
 
 from __future__ import annotations
 
-import io
 import threading
 import time
-import warnings
 from collections import deque
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import igl
@@ -43,6 +40,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from starter import plotting
+from starter.offscreen import OffscreenRenderer, picture_size
 from starter.video import write_mp4
 from starter.validation import as_faces, as_float_array, as_handles, as_points, component_without
 
@@ -87,7 +85,7 @@ def _largest_rotation_traces(cells):
     return lam * size
 
 
-class ArapRenderer:
+class ArapRenderer(OffscreenRenderer):
     """Off-screen pictures of one surface in changing shapes, seen from a fixed orthographic view.
 
     The surface is light grey and lit, every handle's vertices have a colour
@@ -126,10 +124,7 @@ class ArapRenderer:
         self.V = as_points(V, "V", dims=(3,))
         self.F = as_faces(F, len(self.V))
         sets = _handle_sets(handle_sets, len(self.V))
-        size = tuple(int(s) for s in np.ravel(size))
-        if len(size) != 2 or min(size) < 16:
-            raise ValueError(f"size must be (width, height) with both at least 16 pixels, got {size}")
-        self.size = size
+        self.size = size = picture_size(size)
         view, up = as_float_array(view, "view", ndim=1), as_float_array(up, "up", ndim=1)
         if view.shape != (3,) or up.shape != (3,):
             raise ValueError(f"view and up must be 3-vectors, got shapes {view.shape} and {up.shape}")
@@ -149,9 +144,7 @@ class ArapRenderer:
         self.colours = np.tile(np.array(_SURFACE, dtype=np.uint8), (len(self.V), 1))
         for j, h in enumerate(sets):
             self.colours[h] = _PALETTE[j % len(_PALETTE)]
-        self.backend = "pyvista" if plotting._use_pyvista() else "matplotlib"
-        self._scene = None
-        self._gl_thread = None
+        self._start_backend()
 
     @property
     def pixels_per_unit(self) -> float:
@@ -195,41 +188,9 @@ class ArapRenderer:
             raise ValueError(f"shift must have shape (2,), got {shift.shape}")
         return (shift[0] * self.right - shift[1] * self.upward) / self.pixels_per_unit
 
-    def render(self, U):
-        """The picture of the surface at positions ``U``.
-
-        Parameters
-        ----------
-        U : (n, 3) array_like of float
-
-        Returns
-        -------
-        (height, width, 3) numpy.ndarray of uint8
-            RGB.
-        """
-        U = as_float_array(U, "U", ndim=2)
-        if U.shape != self.V.shape:
-            raise ValueError(f"U must have the shape of V {self.V.shape}, got {U.shape}")
-        if self.backend == "pyvista":
-            # An OpenGL context works only on the thread that made it current: pyvista runs on one thread.
-            if self._gl_thread is None:
-                self._gl_thread = ThreadPoolExecutor(max_workers=1, thread_name_prefix="ArapRenderer")
-            try:
-                return self._gl_thread.submit(self._render_pyvista, U).result()
-            except Exception as exc:  # a driver that passed the check can still fail
-                warnings.warn(f"ArapRenderer: pyvista failed ({type(exc).__name__}: {exc}); using matplotlib",
-                              RuntimeWarning, stacklevel=2)
-                self._gl_thread.shutdown(wait=False)
-                self.backend, self._scene, self._gl_thread = "matplotlib", None, None
-        return self._render_matplotlib(U)
-
     def jpeg(self, U, quality=90) -> bytes:
         """:meth:`render` encoded as JPEG (a fifth of PNG's encoding time here, and smaller)."""
-        from PIL import Image
-
-        buffer = io.BytesIO()
-        Image.fromarray(self.render(U)).save(buffer, format="jpeg", quality=int(quality))
-        return buffer.getvalue()
+        return self.encoded(U, "jpeg", quality=int(quality))
 
     def _render_pyvista(self, U):
         import pyvista as pv
@@ -282,14 +243,6 @@ class ArapRenderer:
         faces.set_verts(self.to_pixels(corners.reshape(-1, 3)).reshape(-1, 3, 2)[order])
         faces.set_facecolor(np.clip(colour[order], 0, 1))
         return plotting._figure_image(fig)
-
-    def close(self):
-        """Release the off-screen window and its thread (the renderer builds new ones when used again)."""
-        if self._gl_thread is not None:
-            if self._scene is not None:
-                self._gl_thread.submit(self._scene[0].close).result()
-            self._gl_thread.shutdown()
-        self._scene, self._gl_thread = None, None
 
 
 class ArapWidget(widgets.VBox):

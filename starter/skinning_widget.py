@@ -21,11 +21,8 @@ only switches off ``starter.plotting``'s static pictures.
 
 from __future__ import annotations
 
-import io
 import time
-import warnings
 from collections import deque
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import igl
@@ -34,6 +31,7 @@ import ipywidgets as widgets
 import numpy as np
 
 from starter import plotting
+from starter.offscreen import OffscreenRenderer, picture_size
 from starter.posing import bone_joints, bone_transforms
 from starter.video import write_mp4
 from starter.validation import as_faces, as_float_array, as_handles, as_points
@@ -92,7 +90,7 @@ def skinning_weights(V, F, handle_sets):
     return W / W.sum(axis=1, keepdims=True)
 
 
-class SkinRenderer:
+class SkinRenderer(OffscreenRenderer):
     """Off-screen pictures of one planar mesh in changing poses, coloured by its skinning weights.
 
     Every vertex gets the blend ``Σ_j W[i, j] c_j`` of one colour per handle
@@ -128,10 +126,7 @@ class SkinRenderer:
         W = as_float_array(W, "W", ndim=2)
         if len(W) != len(self.V):
             raise ValueError(f"W must have one row per vertex ({len(self.V)}), got shape {W.shape}")
-        size = tuple(int(s) for s in np.ravel(size))
-        if len(size) != 2 or min(size) < 16:
-            raise ValueError(f"size must be (width, height) with both at least 16 pixels, got {size}")
-        self.size = size
+        self.size = picture_size(size)
         self.colours = np.clip(W @ _PALETTE[np.arange(W.shape[1]) % len(_PALETTE)], 0, 255).astype(np.uint8)
         self.ends = np.zeros((0, 2), dtype=np.int64)
         if bones is not None:
@@ -148,9 +143,7 @@ class SkinRenderer:
         self.reach = float(as_float_array(reach, "reach", ndim=0))
         if self.reach <= 0:
             raise ValueError(f"reach must be positive, got {self.reach}")
-        self.backend = "pyvista" if plotting._use_pyvista() else "matplotlib"
-        self._scene = None
-        self._gl_thread = None
+        self._start_backend()
 
     def to_pixels(self, P):
         """Where points appear in the picture.
@@ -192,36 +185,6 @@ class SkinRenderer:
         half = np.array(self.size, dtype=np.float64) / 2
         return self.centre + (pixels - half) * units_per_pixel * np.array([1.0, -1.0])
 
-    def render(self, U):
-        """The picture of the mesh at positions ``U``.
-
-        Parameters
-        ----------
-        U : (n, 2) array_like of float
-            Deformed positions.
-
-        Returns
-        -------
-        (height, width, 3) numpy.ndarray of uint8
-            RGB.
-        """
-        U = as_float_array(U, "U", ndim=2)
-        if U.shape != self.V.shape:
-            raise ValueError(f"U must have the shape of V {self.V.shape}, got {U.shape}")
-        if self.backend == "pyvista":
-            # An OpenGL context works only in the thread that made it current, and a kernel may
-            # deliver slider changes on another thread than cell execution: pyvista runs on one thread.
-            if self._gl_thread is None:
-                self._gl_thread = ThreadPoolExecutor(max_workers=1, thread_name_prefix="SkinRenderer")
-            try:
-                return self._gl_thread.submit(self._render_pyvista, U).result()
-            except Exception as exc:  # a driver that passed the check can still fail
-                warnings.warn(f"SkinRenderer: pyvista failed ({type(exc).__name__}: {exc}); using matplotlib",
-                              RuntimeWarning, stacklevel=2)
-                self._gl_thread.shutdown(wait=False)
-                self.backend, self._scene, self._gl_thread = "matplotlib", None, None
-        return self._render_matplotlib(U)
-
     def png(self, U) -> bytes:
         """:meth:`render` encoded as PNG (fast, lightly compressed).
 
@@ -233,11 +196,7 @@ class SkinRenderer:
         -------
         bytes
         """
-        from PIL import Image
-
-        buffer = io.BytesIO()
-        Image.fromarray(self.render(U)).save(buffer, format="png", compress_level=1)
-        return buffer.getvalue()
+        return self.encoded(U, "png", compress_level=1)
 
     def _render_pyvista(self, U):
         import pyvista as pv
@@ -297,14 +256,6 @@ class SkinRenderer:
         faces.set_verts(U[self.F])
         lines.set_segments(U[self.ends])
         return plotting._figure_image(fig)
-
-    def close(self):
-        """Release the off-screen window and its thread (the renderer builds new ones when used again)."""
-        if self._gl_thread is not None:
-            if self._scene is not None:
-                self._gl_thread.submit(self._scene[0].close).result()
-            self._gl_thread.shutdown()
-        self._scene, self._gl_thread = None, None
 
 
 class SkinningWidget(widgets.VBox):

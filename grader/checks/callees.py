@@ -37,7 +37,7 @@ import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
 from grader.checks.base import Case, close, max_abs, run_steps
-from grader.contract import CONTRACT_NAMES, MODULE_OF
+from grader.contract import CONTRACT_NAMES, MODULE_OF, reference_function
 from grader.harness.kernel_side import __deformlab_sketch__ as sketch
 from grader.harness.outputs import RecordedCall
 
@@ -266,7 +266,8 @@ class _Replay:
                 if theirs is not None and theirs.keys() == ours.keys() and all(
                     _sketch_matches(ours[p], theirs[p]) for p in ours
                 ):
-                    if not _same_output(call.output, _pure(fn, args, kwargs)):
+                    # whether the student's output differs: asked once per callee, a reference run each time
+                    if name not in self.substituted and not _same_output(call.output, _pure(fn, args, kwargs)):
                         self.substituted.add(name)
                     return call.output
         # not called on these arguments (or not readable, as a precomputation object): the reference's
@@ -287,7 +288,7 @@ class _Replay:
             return reference
         query = np.asarray(bound[param], dtype=float)
         item_shape = query.shape[query.ndim - item_axes:]
-        tree, inputs, outputs = self._tree(name, item_shape)
+        tree, outputs = self._tree(name, item_shape)
         if tree is None:
             return reference
         flat = query.reshape(-1, math.prod(item_shape))
@@ -303,7 +304,7 @@ class _Replay:
         return result.reshape(np.shape(reference))
 
     def _tree(self, name: str, item_shape: tuple):
-        """A k-d tree of every recorded item of ``name`` with this shape, their outputs beside them."""
+        """A k-d tree of every recorded item of ``name`` with this shape, and their outputs in its order."""
         key = (name, item_shape)
         if key not in self._trees:
             size = math.prod(item_shape)
@@ -319,9 +320,9 @@ class _Replay:
             if inputs:
                 X = np.concatenate(inputs)
                 keep = np.all(np.isfinite(X), axis=1)
-                self._trees[key] = (cKDTree(X[keep]), X[keep], np.concatenate(outputs)[keep])
+                self._trees[key] = (cKDTree(X[keep]), np.concatenate(outputs)[keep])
             else:
-                self._trees[key] = (None, None, None)
+                self._trees[key] = (None, None)
         return self._trees[key]
 
 
@@ -329,14 +330,11 @@ class _Callees:
     """``f.name(...)`` in a composition: the course function ``name``, substitutable."""
 
     def __getattr__(self, name: str) -> Callable:
-        from grader.contract import reference_function
-
         return reference_function(name)
 
 
 def _resolve(name: str) -> Callable:
-    from grader.contract import reference_function
-
+    """A case step's function in a rerun: its composition where it has one, else the (substitutable) reference."""
     if name in COMPOSITIONS:
         return functools.partial(COMPOSITIONS[name][0], _Callees())
     return reference_function(name)
@@ -374,7 +372,9 @@ class _Tracer:
         return fn(*args, **kwargs)
 
 
-def own_work_output(case: Case, calls: list[RecordedCall], caller: str, seed: int) -> tuple[Any, set[str]] | None:
+def own_work_output(
+    case: Case, calls: list[RecordedCall], caller: str, seed: int
+) -> tuple[Any, set[str], str | None] | None:
     """The reference's output on ``case`` given the student's recorded callee outputs.
 
     Parameters

@@ -81,7 +81,6 @@ def __deformlab_collect__(function, fixture_dir, out_dir):
     # a snapshot: the policy finds the student's own functions on the stack, not the recorders below
     policy = __deformlab_policy__(dict(namespace), function)
     plan = manifest.get("record") or {}
-    calls = []  # the current case's recorded calls
     room = [int(plan.get("budget", 0))]  # elements the recordings may still hold
     max_calls = int(plan.get("max_calls", 0))  # per case
 
@@ -142,7 +141,6 @@ def __deformlab_collect__(function, fixture_dir, out_dir):
                 pass
             return out
 
-        recorded.__wrapped__ = fn
         return recorded
 
     wrapped = {}
@@ -157,7 +155,7 @@ def __deformlab_collect__(function, fixture_dir, out_dir):
         for index, case in enumerate(manifest["cases"]):
             start = _time.perf_counter()
             results = []
-            calls = []
+            calls = []  # the case's recorded calls (the recorders read this name)
             try:
                 for step in case["steps"]:
                     # a case's own steps are not calls of the student's function: never recorded

@@ -253,7 +253,8 @@ def policy_violations(function: str, reported: Any) -> tuple[str, ...]:
     return tuple(kept)
 
 
-def _parse_records(data: bytes, n_cases: int) -> tuple[list, Any]:
+def _parse_records(data: bytes, n_cases: int) -> tuple[list, Any, Any]:
+    """The case records, the peak memory and the policy violations the kernel reports: hostile, checked by the callers."""
     try:
         meta = json.loads(data.decode("utf-8"))
     except (UnicodeDecodeError, ValueError, RecursionError) as exc:
@@ -263,7 +264,7 @@ def _parse_records(data: bytes, n_cases: int) -> tuple[list, Any]:
         raise OutputError(f"expected {n_cases} case records, found {len(records) if isinstance(records, list) else 'none'}")
     if not all(isinstance(r, dict) for r in records):
         raise OutputError("outputs are malformed: a case record is not a record")
-    return records, meta.get("peak_rss_bytes")
+    return records, meta.get("peak_rss_bytes"), meta.get("policy_violations")
 
 
 def read_outputs(function: str, directory: Path, n_cases: int, expected: list | None = None) -> Collected:
@@ -296,8 +297,8 @@ def read_outputs(function: str, directory: Path, n_cases: int, expected: list | 
         arrays_bytes = _read_untrusted(folder, f"{function}.npz", MAX_OUTPUT_BYTES)
     finally:
         os.close(folder)
-    records, peak = _parse_records(records_bytes, n_cases)
-    violations = policy_violations(function, _reported_violations(records_bytes))
+    records, peak, reported = _parse_records(records_bytes, n_cases)
+    violations = policy_violations(function, reported)
     arrays = _Arrays(arrays_bytes)
     cases = []
     room = [RECORD_ELEMENTS]
@@ -316,12 +317,6 @@ def read_outputs(function: str, directory: Path, n_cases: int, expected: list | 
         cases.append(CaseOutput(value, None, seconds, _recorded_calls(rec.get("calls"), i, arrays, room)))
     peak = _non_negative(peak)
     return Collected(function, cases, None if peak is None else int(peak), violations)
-
-
-def _reported_violations(data: bytes) -> Any:
-    """The records file's ``policy_violations`` entry (its records were already read: it parses)."""
-    meta = json.loads(data.decode("utf-8"))
-    return meta.get("policy_violations") if isinstance(meta, dict) else None
 
 
 def _non_negative(value: Any) -> float | None:
