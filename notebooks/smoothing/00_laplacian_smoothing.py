@@ -650,7 +650,7 @@ plotting.show_meshes(
 # from the clean sphere, keeping `L_cot` and `m_sphere`, and append the mean
 # radius and the enclosed volume after each step to `radii` and `volumes`.
 
-# %% deformlab={"exercise": "shrinkage"}
+# %% deformlab={"exercise": "shrinkage_measurement"}
 h, steps = 0.02, 10
 radii, volumes = [1.0], [enclosed_volume(V_sphere, F_sphere)]
 ### BEGIN SOLUTION

@@ -30,6 +30,15 @@ TOML = tomllib.loads((PACK / "assignment.toml").read_text())
 NOTEBOOK = (PACK / TOML["notebooks"] / f"{TOML['stages'][0]['notebook']}.py").resolve()
 FUNCTIONS = TOML["stages"][0]["functions"]
 CORPUS = REPO / "tests" / "corpus" / "smoothing"
+#: buggy entry -> words the failing public test's message must contain: it names the mistake, not only the numbers
+HINTS = {
+    "cot_clamped": "a negative cotangent is kept as is",
+    "cot_signed_area": "use its absolute value",
+    "explicit_times_mass": "multiplied by the masses",
+    "implicit_flat_column": "reshape it to U's shape",
+    "implicit_rhs_without_mass": "the right-hand side is M U",
+    "uniform_edges_counted_per_triangle": "counted once per triangle",
+}
 
 
 def load_checks() -> dict[str, FunctionChecks]:
@@ -176,7 +185,7 @@ def test_a_public_test_names_each_bug_first(path, monkeypatch):
                     continue
                 with pytest.raises(AssertionError) as caught:
                     exec(compile(source, NOTEBOOK.name, "exec"), namespace)
-                assert str(caught.value).strip(), f"{path.stem}: the public test of {function} fails without a message"
+                assert HINTS[path.stem] in str(caught.value), f"{path.stem}: the public test of {function} says {caught.value}"
                 break
             exec(compile(source, NOTEBOOK.name, "exec"), namespace)
 
