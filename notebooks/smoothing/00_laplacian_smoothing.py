@@ -195,7 +195,7 @@ tangential = np.linalg.norm(umbrella - along_normal[:, None] * normals, axis=1)
 ratio = tangential / np.abs(along_normal)
 print(f"umbrella vectors: normal part median {np.median(np.abs(along_normal)):.4f} (pointing inward: {np.mean(along_normal < 0):.0%}),")
 print(f"                  tangential / normal: median {np.median(ratio):.2f}, largest {ratio.max():.2f} (at degree {degree[np.argmax(ratio)]:.0f})")
-plotting.show_mesh(V_sphere, F_sphere, scalars=ratio, title="uniform Laplacian: |tangential| / |normal| part")
+plotting.show_mesh(V_sphere, F_sphere, scalars=ratio, title="umbrella: tangential / normal")
 
 # %% [markdown]
 # ## 2. The cotangent Laplacian and the mass matrix
@@ -347,7 +347,7 @@ umbrella_everywhere = np.zeros(len(V_character))
 umbrella_everywhere[interior] = umbrella_interior
 plotting.show_meshes(
     [(V_character, F_character, umbrella_everywhere), (V_sphere, F_sphere, length)],
-    titles=["character: umbrella vector length (interior)", "sphere: |M⁻¹ L V|"],
+    titles=["character: umbrella length", "sphere: |M⁻¹ L V|, 2H = 2"],
     link_views=False,
 )
 
@@ -450,8 +450,9 @@ for _args, _why in [((_U, L_cot, m_sphere, -1.0), "h = -1 < 0"), ((_U, L_cot, np
 # $1 - h\lambda$. For which step sizes $h$ does some part grow instead of
 # decay? Which part of the noisy sphere, smooth or rough, blows up first?
 #
-# The cell computes the largest $\lambda$ of the unit sphere, then runs 40 explicit
-# steps from the noisy sphere just below and just above your critical step.
+# The cell computes the largest $\lambda$ of the unit sphere, then runs 25 explicit
+# steps from the noisy sphere just below and just above your critical step. Where on
+# the mesh do you expect the trouble to start?
 
 # %%
 lambda_max = spla.eigsh(-L_cot, k=1, M=sp.diags(m_sphere), which="LM", return_eigenvectors=False)[0]
@@ -460,17 +461,22 @@ print(f"unit sphere: largest eigenvalue λ_max = {lambda_max:.1f}, critical step
 runs = {}
 for factor in (0.9, 1.1):
     U = V_noisy.copy()
-    for step in range(40):
+    for step in range(25):
         U = explicit_smoothing_step(U, L_cot, m_sphere, factor * h_critical)
     runs[factor] = U
     radius = np.linalg.norm(U, axis=1)
-    print(f"h = {factor} x critical: after 40 steps the radius ranges over [{radius.min():.3g}, {radius.max():.3g}]")
+    print(f"h = {factor} x critical: after 25 steps the radius ranges over [{radius.min():.3g}, {radius.max():.3g}]")
 # the same sphere at its stored size (radius about 126): cotangents do not change, masses grow with the area
 scale = 126.0
 lambda_big = spla.eigsh(-L_cot, k=1, M=sp.diags(scale**2 * m_sphere), which="LM", return_eigenvectors=False)[0]
 print(f"radius {scale:.0f}: critical step {2.0 / lambda_big:.3g}, {2.0 / lambda_big / h_critical:.0f} times the unit sphere's")
+# refined: every triangle split into four at its edge midpoints (same angles, a quarter of the area)
+V_fine, F_fine = igl.upsample(V_sphere, F_sphere)
+lambda_fine = spla.eigsh(-cotangent_matrix(V_fine, F_fine), k=1, M=sp.diags(vertex_masses(V_fine, F_fine)), which="LM",
+                         return_eigenvectors=False)[0]
+print(f"edges halved ({len(V_fine)} vertices): critical step {2.0 / lambda_fine:.2e}, {h_critical / (2.0 / lambda_fine):.2f} times smaller")
 plotting.show_meshes([(V_noisy, F_sphere), (runs[0.9], F_sphere), (runs[1.1], F_sphere)],
-                     titles=["noisy", "40 steps, h = 0.9 critical", "40 steps, h = 1.1 critical"], link_views=False)
+                     titles=["noisy", "25 steps, h = 0.9 critical", "25 steps, h = 1.1 critical"], link_views=False)
 
 # %% [markdown]
 # **Question.** The critical step $h = 2/\lambda_{\max}$ depends on the mesh.
@@ -481,16 +487,17 @@ plotting.show_meshes([(V_noisy, F_sphere), (runs[0.9], F_sphere), (runs[1.1], F_
 # vertices?
 
 # %% [markdown] deformlab={"answer": "critical_step", "points": 2}
-# The cotangent weights are dimensionless (ratios of lengths), while the masses
-# are areas, so M⁻¹L scales like 1/length²: scaling the mesh by s multiplies every
-# eigenvalue by 1/s² and the critical step by s² (126² ≈ 15900, as measured; h has
-# the units of an area). Halving every edge keeps the cotangents but divides the
-# masses by 4 near the rough end of the spectrum: λ_max ~ 1/ℓ² for edge length ℓ,
-# so the critical step drops by 4. Smoothing away features of size σ needs a
-# time T ~ σ², a fixed time independent of the mesh, hence T / h_crit ~ σ²/ℓ²
-# explicit steps: 4 times as many steps per halving of ℓ, each on 4 times as many
-# vertices, so the work grows like n² for n vertices on a surface. That is why
-# explicit smoothing of a fine scan is slow, and why the next step is implicit.
+# The cotangent weights are dimensionless (they depend on angles only), while the
+# masses are areas, so M⁻¹L scales like 1/length²: scaling the mesh by s divides
+# every eigenvalue by s² and multiplies the critical step by s² (126² ≈ 15900, as
+# measured; h has the units of an area). Halving every edge keeps the angles (the
+# midpoint split makes four similar triangles) but divides the masses by 4, so
+# λ_max grows about 4-fold and the critical step shrinks about 4-fold (measured:
+# 4.25): h_crit ~ ℓ² for edge length ℓ. Smoothing away features of size σ takes
+# a diffusion time T ~ σ², independent of the mesh, hence T / h_crit ~ σ²/ℓ²
+# explicit steps: 4 times as many steps per halving of ℓ, each on 4 times as
+# many vertices, so the work grows like n² for n vertices on a surface. That is
+# why explicit smoothing of a fine scan is slow, and why the next step is implicit.
 
 # %% [markdown]
 # ## 4. Implicit steps
