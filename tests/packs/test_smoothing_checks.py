@@ -125,6 +125,17 @@ def test_the_pack_registers_checks_for_exactly_its_functions():
     assert sorted(CHECKS) == sorted(FUNCTIONS)
     assert all(f in TOML["policy"] for f in FUNCTIONS)
     assert set(FUNCTIONS) <= {n for n in vars(ref) if not n.startswith("_")}
+    # taught in this order, each in its own solution cell, and each in the students' contract
+    assert [name for kind, name, _ in authored_cells() if kind == "solution"] == FUNCTIONS
+    contract = (PACK / TOML["contract"]).read_text()
+    assert all(f"`{f}(" in contract for f in FUNCTIONS)
+
+
+def test_no_function_shares_a_name_with_the_deformation_course():
+    """One installation grades both courses: a shared name would be ambiguous."""
+    from grader.contract import CONTRACT_NAMES
+
+    assert not set(FUNCTIONS) & set(CONTRACT_NAMES)
 
 
 @pytest.mark.parametrize("function", FUNCTIONS)
