@@ -25,3 +25,6 @@ try:
     c.GenerateFeedback.preprocessors = feedback_preprocessors()
 except ImportError:  # without the kit installed, generate_feedback would return them: use deformlab export
     pass
+# The course's assignments: one course pack per folder (grader/course_pack.py reads them).
+c.DeformLab.course_packs = ["deformation", "smoothing"]
+c.DeformLab.default_assignment = "deformation"

@@ -20,7 +20,7 @@ from pathlib import Path
 import nbformat
 
 from grader.build.authored import BEGIN_SOLUTION, END_SOLUTION
-from grader.build.release import generate_assignment
+from grader.gradebook import generate_assignment
 from grader.build.source_notebook import build_sources
 from grader.paths import CoursePaths, course_paths
 from grader.pipeline.run import GradeOptions, grade_class
@@ -45,7 +45,7 @@ def main(students: int | None = None) -> dict:
         root = Path(tmp)
         paths = CoursePaths(root)
         (root / "assignments").mkdir()
-        sources = build_sources(repo.notebooks, paths.source, "deformation")
+        sources = build_sources(paths.source, "deformation")
         db = f"sqlite:///{root}/stock.db"
         generate_assignment(paths, "deformation", db)
         submitted = paths.course / "submitted"

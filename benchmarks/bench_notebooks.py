@@ -24,7 +24,6 @@ from nbclient import NotebookClient
 
 from grader.build.release import QUIET_KERNEL
 from grader.build.source_notebook import build_sources
-from grader.paths import course_paths
 
 
 def _children_cpu() -> float:
@@ -34,10 +33,9 @@ def _children_cpu() -> float:
 
 
 def main() -> dict:
-    paths = course_paths()
     figures: dict = {}
     with tempfile.TemporaryDirectory(prefix="dl-bench-nb-") as tmp:
-        sources = build_sources(paths.notebooks, Path(tmp), "deformation")
+        sources = build_sources(Path(tmp), "deformation")
         os.environ["DEFORMLAB_NO_PLOTS"] = "0"  # as a student sees it
         total = 0.0
         for path in sources:

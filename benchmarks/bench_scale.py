@@ -45,6 +45,7 @@ from grader.pipeline import unit as unit_module
 from grader.pipeline.run import GradeOptions, ensure_gradebook, grade_class
 from grader.sandbox import fork_server
 from grader.sandbox.bwrap import SandboxSpec, sandbox_env
+from tests.course_copy import copy_course_config
 
 
 class _CpuMeter:
@@ -135,7 +136,8 @@ def _make_class(root: Path, students: int) -> tuple[CoursePaths, Path]:
     for name in ("data", "starter", "notebooks"):
         (root / "course" / name).symlink_to(repo.root / name)
     paths = CoursePaths(root / "course")
-    sources = build_sources(repo.notebooks, paths.source, "deformation")
+    copy_course_config(paths.course)  # the course packs: grading workers read them from this course
+    sources = build_sources(paths.source, "deformation")
     submitted = root / "submitted"
     for k in range(students):
         folder = submitted / f"student{k:02d}" / "deformation"
@@ -260,7 +262,7 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
     from grader.pipeline.verify import graded_cells, hidden_cases
 
     start = time.perf_counter()
-    for source in paths.source_notebooks():
+    for source in paths.source_notebooks("deformation"):
         for cell in graded_cells(nbformat.read(source, as_version=4)):
             hidden_cases(cell.function, 1)
     once = time.perf_counter() - start
@@ -274,7 +276,7 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
         readonly = [str(paths.data), str(paths.starter)]
         folder = next(iter(sorted(submitted.iterdir()))) / "deformation"
         units, wall, cpu, own = 0, 0.0, 0.0, 0.0
-        for source in paths.source_notebooks():
+        for source in paths.source_notebooks("deformation"):
             content, digest, error = unit_module.load_submission(folder / source.name)
             spec = unit_module.UnitSpec(student_id=folder.parent.name, notebook=source.stem, submission=content,
                                         source=source.read_text(), seed=1, submission_sha256=digest, submission_error=error)

@@ -16,3 +16,7 @@ def ensure_interpreter_bin_on_path() -> None:
 
 
 ensure_interpreter_bin_on_path()
+
+# Course packs' code imports as deformlab_packs.<assignment> (grader/course_pack.py installs the finder),
+# also where a pickled check is loaded first: a grading or Dask worker.
+from grader import course_pack as _course_pack  # noqa: E402,F401

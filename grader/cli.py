@@ -6,7 +6,6 @@ import argparse
 import sys
 from pathlib import Path
 
-from grader.contract import ASSIGNMENT
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
 #: GiB of address space below which no kernel starts.
@@ -75,7 +74,7 @@ def _cmd_build(args) -> int:
     from grader.paths import course_paths
 
     paths = course_paths()
-    for path in build_sources(paths.notebooks, paths.source, args.assignment):
+    for path in build_sources(paths.source, args.assignment):
         print(f"wrote {path.relative_to(paths.root)}")
     add_course_files(paths, args.assignment)
     print(f"copied starter/ and data/ into {(paths.source / args.assignment).relative_to(paths.root)}/ (released with the notebooks)")
@@ -316,7 +315,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="deformlab", description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    assignment_help = f"nbgrader assignment name (default: {ASSIGNMENT})"
+    assignment_help = "nbgrader assignment name (default: the course's c.DeformLab.default_assignment, else its first course pack)"
     parser.add_argument(
         "--course",
         default=None,
@@ -324,11 +323,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
 
     p = sub.add_parser("build", help="build the instructor notebooks (assignments/source) from notebooks/ and reference/")
-    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--assignment", default=None, help=assignment_help)
     p.set_defaults(run=_cmd_build)
 
     p = sub.add_parser("release", help="build, generate the student release and bundle, and check that nothing leaked")
-    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--assignment", default=None, help=assignment_help)
     p.add_argument("--no-execute", action="store_true", help="skip the execution checks (faster, for editing prose)")
     p.set_defaults(run=_cmd_release)
 
@@ -352,7 +351,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--db", default=None, help="SQLAlchemy URL of the nbgrader gradebook (default: the course's SQLite)")
     p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: fresh, recorded in the log)")
-    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--assignment", default=None, help=assignment_help)
     p.add_argument("--due", default=None,
                    help="due date, e.g. '2026-11-20 23:59:00 Europe/Paris' (default: the gradebook's, set by "
                         "'nbgrader db assignment add ASSIGNMENT --duedate=...'); lateness is read from nbgrader's timestamp.txt")
@@ -382,7 +381,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("out", help="the grading run's output folder (grade's --out)")
     p.add_argument("--to", default=None, help="where the report goes (default: OUT/report)")
     p.add_argument("--submitted", default=None, help="the SUBMITTED folder that was graded: adds collusion evidence")
-    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--assignment", default=None, help=assignment_help)
     p.set_defaults(run=_cmd_report)
 
     p = sub.add_parser("export", help="grades for Canvas or Moodle (CSV), or feedback into nbgrader's feedback/ folder")
@@ -397,7 +396,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--db", default=None,
                    help="SQLAlchemy URL of the nbgrader gradebook whose hand grading (formgrader) the export includes "
                         "(default: the course's SQLite)")
-    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--assignment", default=None, help=assignment_help)
     p.set_defaults(run=_cmd_export)
 
     p = sub.add_parser("extension", help="give students an extension on the assignment, in nbgrader's gradebook")
@@ -408,13 +407,13 @@ def build_parser() -> argparse.ArgumentParser:
     when.add_argument("--remove", action="store_true", help="take the extension back")
     p.add_argument("--hours", type=_positive_float, default=None, help="hours added to the due date")
     p.add_argument("--db", default=None, help="SQLAlchemy URL of the nbgrader gradebook (default: the course's SQLite)")
-    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--assignment", default=None, help=assignment_help)
     p.set_defaults(run=_cmd_extension)
 
     p = sub.add_parser("gradescope", help="build a Gradescope autograder zip")
     p.add_argument("--out", required=True, help="path of the zip to write")
     p.add_argument("--seed", type=int, default=None, help="the assignment's hidden-input seed (default: a fresh one, printed)")
-    p.add_argument("--assignment", default=ASSIGNMENT, help=assignment_help)
+    p.add_argument("--assignment", default=None, help=assignment_help)
     p.add_argument("--allow-unsandboxed", action="store_true",
                    help="grade even where bubblewrap cannot start (students' code then runs unconfined; default: refuse)")
     p.set_defaults(run=_cmd_gradescope)
@@ -439,6 +438,10 @@ def main(argv: list[str] | None = None) -> int:
             from grader.paths import use_course
 
             use_course(args.course)
+        if getattr(args, "assignment", "") is None:
+            from grader.course_pack import default_assignment
+
+            args.assignment = default_assignment()
         return args.run(args)
     except KeyboardInterrupt:
         return 130

@@ -5,7 +5,7 @@ Each entry is a small Python file ``tests/corpus/<kind>/<name>.py`` (kind is
 notebook into one student's submission and what grading it must give:
 
 ``NOTEBOOK``
-    The notebook submitted, e.g. ``"03_arap"`` (one per entry).
+    The notebook submitted, a stage of the entry's assignment (one per entry).
 ``DESCRIPTION``
     One line: the mistake or the attack.
 ``SOLUTIONS``
@@ -66,7 +66,7 @@ from typing import Callable
 import nbformat
 
 from grader.build.source_notebook import solution_grade_id
-from grader.contract import ASSIGNMENT, CONTRACT_NAMES, STAGES
+from grader.course_pack import pack
 
 KINDS = ("buggy", "correct", "hostile")
 
@@ -110,6 +110,8 @@ class CorpusEntry:
     needs_process_cap: bool = False
     weak_check: str | None = None
     check: Callable[[dict, str | None, dict], list[str]] | None = None
+    #: the assignment of the entry's notebook (None: the course's default assignment)
+    assignment: str | None = None
 
     @staticmethod
     def fill(text: str, params: dict[str, str]) -> str:
@@ -149,6 +151,7 @@ def load_entry(path: str | Path, kind: str | None = None) -> CorpusEntry:
         name=path.stem,
         kind=kind or path.parent.name,
         notebook=module.NOTEBOOK,
+        assignment=getattr(module, "ASSIGNMENT", None),
         description=module.DESCRIPTION,
         solutions=dict(module.SOLUTIONS),
         loses=frozenset(module.LOSES),
@@ -165,9 +168,10 @@ def load_entry(path: str | Path, kind: str | None = None) -> CorpusEntry:
         weak_check=getattr(module, "WEAK_CHECK", None),
         check=getattr(module, "CHECK", None),
     )
-    if entry.notebook not in STAGES:
-        raise ValueError(f"corpus entry {path}: NOTEBOOK {entry.notebook!r} is not one of {sorted(STAGES)}")
-    stray = sorted((entry.loses | set(entry.solutions)) - CONTRACT_NAMES)
+    course = pack(entry.assignment)
+    if entry.notebook not in course.stage_names:
+        raise ValueError(f"corpus entry {path}: NOTEBOOK {entry.notebook!r} is not one of {list(course.stage_names)}")
+    stray = sorted((entry.loses | set(entry.solutions)) - course.function_names)
     if stray:
         raise ValueError(f"corpus entry {path}: {stray} are not contract functions")
     if entry.kind not in KINDS:
@@ -252,7 +256,7 @@ def build_submission(
     if not isinstance(content, bytes):
         for cell in content.cells:  # placeholders may be in solutions or in cells EDIT added
             cell.source = entry.fill(cell.source, params)
-    folder = Path(target_dir) / (student_id or entry.name) / ASSIGNMENT
+    folder = Path(target_dir) / (student_id or entry.name) / pack(entry.assignment).name
     folder.mkdir(parents=True, exist_ok=True)
     target = folder / (entry.filename or f"{entry.notebook}.ipynb")
     if isinstance(content, bytes):

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import nbformat
 
-from grader.contract import ASSIGNMENT
+from grader.course_pack import default_assignment
 from grader.corpus import CorpusEntry, build_submission, load_entry, student_notebook
 from grader.paths import course_paths
 from grader.report.scores import score_table
@@ -68,15 +68,15 @@ def build_class(submitted: Path, sources: list[Path], released: Path, entries: l
     students = ["reference", *(demo_student_id(e) for e in entries), "blank"]
     for sid in students:
         shutil.rmtree(submitted / sid, ignore_errors=True)
-        (submitted / sid / ASSIGNMENT).mkdir(parents=True)
-        (submitted / sid / ASSIGNMENT / "timestamp.txt").write_text(LATE if sid == "blank" else ON_TIME)
+        (submitted / sid / default_assignment()).mkdir(parents=True)
+        (submitted / sid / default_assignment() / "timestamp.txt").write_text(LATE if sid == "blank" else ON_TIME)
     for stem, nb in reference.items():
-        nbformat.write(nb, submitted / "reference" / ASSIGNMENT / f"{stem}.ipynb")
-        shutil.copy(released / f"{stem}.ipynb", submitted / "blank" / ASSIGNMENT / f"{stem}.ipynb")
+        nbformat.write(nb, submitted / "reference" / default_assignment() / f"{stem}.ipynb")
+        shutil.copy(released / f"{stem}.ipynb", submitted / "blank" / default_assignment() / f"{stem}.ipynb")
     for entry in entries:
         for stem, nb in reference.items():
             if stem != entry.notebook:
-                nbformat.write(nb, submitted / demo_student_id(entry) / ASSIGNMENT / f"{stem}.ipynb")
+                nbformat.write(nb, submitted / demo_student_id(entry) / default_assignment() / f"{stem}.ipynb")
         build_submission(entry, sources[0].parent, submitted, demo_student_id(entry))
     return students
 
@@ -97,7 +97,7 @@ def show_in_formgrader(paths, out: Path, submitted: Path, db_url: str, students:
     with record.open_gradebook(db_url) as gb:
         for sid in students:
             gb.update_or_create_student(sid, first_name=sid, last_name="Demo")
-    apply_late_policy(out, submitted, ASSIGNMENT, parse_due(DEMO_DUE), PerDayPenalty(fraction_per_day=DEMO_LATE_FRACTION), db_url)
+    apply_late_policy(out, submitted, default_assignment(), parse_due(DEMO_DUE), PerDayPenalty(fraction_per_day=DEMO_LATE_FRACTION), db_url)
     return [_release_to_exchange(paths, db_url)]
 
 
@@ -116,9 +116,9 @@ def _release_to_exchange(paths, db_url: str) -> str:
     exchange = Path(config.Exchange.root) if "root" in config.Exchange else Path("/usr/local/share/nbgrader/exchange")
     if not (exchange.is_dir() and os.access(exchange, os.W_OK)):
         return (f"the assignment stays 'draft' in formgrader: nbgrader's exchange {exchange} is not a writable folder "
-                f"(set c.Exchange.root, then: nbgrader release_assignment {ASSIGNMENT})")
+                f"(set c.Exchange.root, then: nbgrader release_assignment {default_assignment()})")
     api = NbGraderAPI(coursedir=CourseDirectory(config=config), config=config)
-    result = api.release_assignment(ASSIGNMENT)
+    result = api.release_assignment(default_assignment())
     if not result.get("success"):
         return f"nbgrader release_assignment failed, so the assignment stays 'draft': {(result.get('error') or '')[-300:]}"
     return f"released to nbgrader's exchange {exchange}: formgrader shows the assignment as released"
@@ -156,10 +156,10 @@ def run_demo(out: Path, workers: int | None = None) -> int:
     report = release(execute=False, paths=paths)
     if not report.ok:
         return 1
-    sources = paths.source_notebooks(ASSIGNMENT)
+    sources = paths.source_notebooks(default_assignment())
     entries = [load_entry(corpus / f"{name}.py") for name in DEMO_ENTRIES]
     submitted = paths.course / "submitted"
-    students = build_class(submitted, sources, paths.release / ASSIGNMENT, entries)
+    students = build_class(submitted, sources, paths.release / default_assignment(), entries)
 
     print("\n== the class ==")
     print(f"  reference: the instructor solutions; blank: the release notebooks as handed out, a day late (due {DEMO_DUE})")
@@ -174,13 +174,13 @@ def run_demo(out: Path, workers: int | None = None) -> int:
     print("\n== scores (autograded points; short answers are graded by hand in formgrader) ==")
     print(score_table(results, students, [p.stem for p in sources]))
     print("\n== reports ==")
-    evidence = collusion_of_run(out, submitted, ASSIGNMENT, sources)
+    evidence = collusion_of_run(out, submitted, default_assignment(), sources)
     print(f"  class report: {write_class_report(out, collusion=evidence)} ({evidence.summary()})")
     print(f"  grades:    {out / 'grades.csv'}")
     print(f"  feedback:  {out / 'feedback'}/<student>/<notebook>.html")
     print(f"  log:       {out / 'log.jsonl'}")
     print(f"  gradebook: {db}")
-    print(f"  executed notebooks: {paths.course / 'autograded'}/<student>/{ASSIGNMENT}/")
+    print(f"  executed notebooks: {paths.course / 'autograded'}/<student>/{default_assignment()}/")
     print(f"  formgrader: cd {paths.course} && jupyter lab, then Nbgrader > Formgrader (written answers wait for a TA there)")
     for note in notes:
         print(f"  {note}")

@@ -29,7 +29,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from grader.contract import ASSIGNMENT, is_bonus
+from grader.course_pack import default_assignment, is_bonus, packs
 from grader.paths import course_paths
 
 SETUP_SH = """#!/usr/bin/env bash
@@ -68,7 +68,7 @@ CONFIG = "gradescope.json"
 PACKAGED = ("reference", "grader", "starter", "data", "notebooks", "assignments/nbgrader_config.py", "pyproject.toml", "constraints.txt", "README.md")
 
 
-def build_autograder_zip(target: Path, seed: int | None = None, assignment: str = ASSIGNMENT, allow_unsandboxed: bool = False) -> Path:
+def build_autograder_zip(target: Path, seed: int | None = None, assignment: str | None = None, allow_unsandboxed: bool = False) -> Path:
     """Write the autograder zip: the course (reference, grader, starter, data, notebooks), the two scripts, the config.
 
     Parameters
@@ -80,6 +80,7 @@ def build_autograder_zip(target: Path, seed: int | None = None, assignment: str 
         Grade even where bubblewrap cannot start (the student's code then runs unconfined).
     """
     paths = course_paths()
+    assignment = assignment or default_assignment()
     seed = secrets.randbits(32) if seed is None else seed
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -90,7 +91,9 @@ def build_autograder_zip(target: Path, seed: int | None = None, assignment: str 
             info.external_attr = 0o755 << 16  # executable, as Gradescope requires
             z.writestr(info, text)
         z.writestr(CONFIG, json.dumps({"assignment": assignment, "seed": seed, "allow_unsandboxed": allow_unsandboxed}, indent=1))
-        for item in PACKAGED:
+        # the course packs (their checks are hidden in the sandbox like the reference)
+        pack_folders = [str(p.folder.relative_to(paths.root)) for p in packs().values() if p.folder.is_relative_to(paths.root)]
+        for item in (*PACKAGED, *pack_folders):
             path = paths.root / item
             files = [path] if path.is_file() else sorted(p for p in path.rglob("*") if p.is_file())
             for f in files:
@@ -109,7 +112,7 @@ def results_json(unit_results: list[dict], seed: int | None = None, pictures_htm
     for r in sorted(unit_results, key=lambda r: r["notebook"]):
         for t in r["tests"]:
             lines = [t["summary"]]
-            bonus = is_bonus(r["notebook"])
+            bonus = is_bonus(r["assignment"], r["notebook"])
             if bonus:
                 lines.insert(0, f"bonus: up to {t['points']:g} extra points")
             lines += [f"- {c['label']}: {'passed' if c['passed'] else (c['error'] or '; '.join(c['failed']))}" for c in t["cases"]]
@@ -192,7 +195,8 @@ def run(root: Path) -> Path:
     results_path = root / "results" / "results.json"
     results_path.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="dl-gs-") as tmp:
-        target = Path(tmp) / "submitted" / "submission" / ASSIGNMENT
+        assignment = config.get("assignment") or default_assignment()
+        target = Path(tmp) / "submitted" / "submission" / assignment
         target.mkdir(parents=True)
         for nb in sorted((root / "submission").rglob("*.ipynb")):
             if ".ipynb_checkpoints" not in nb.parts:
@@ -201,7 +205,7 @@ def run(root: Path) -> Path:
             Path(tmp) / "submitted",
             Path(tmp) / "out",
             GradeOptions(db_url=f"sqlite:///{tmp}/gradebook.db", progress=False, autograded=Path(tmp) / "autograded",
-                         seed=int(config["seed"]), assignment=config.get("assignment", ASSIGNMENT)),
+                         seed=int(config["seed"]), assignment=assignment),
         )
         pictures = pictures_html(Path(tmp) / "out" / "feedback" / "submission")
     results_path.write_text(json.dumps(results_json(results, int(config["seed"]), pictures), indent=1))

@@ -20,8 +20,6 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from grader.contract import ASSIGNMENT
-
 ROOT_VARIABLE = "DEFORMLAB_ROOT"
 #: nbgrader's course id of every gradebook the kit writes (``assignments/nbgrader_config.py`` says the same):
 #: a PostgreSQL gradebook enforces that each assignment's course exists.
@@ -73,7 +71,8 @@ class CoursePaths:
     def dist(self) -> Path:
         return self.root / "dist"
 
-    def source_notebooks(self, assignment: str = ASSIGNMENT) -> list[Path]:
+    def source_notebooks(self, assignment: str) -> list[Path]:
+        """The built instructor notebooks of ``assignment``."""
         return sorted((self.source / assignment).glob("[0-9][0-9]_*.ipynb"))
 
     @property

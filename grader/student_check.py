@@ -80,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
         description="Run a notebook top to bottom and print, per function, whether its public tests pass. "
         "Passing them does not guarantee full marks: grading uses other, hidden inputs.",
     )
-    parser.add_argument("notebook", help="the notebook to check, e.g. 03_arap.ipynb")
+    parser.add_argument("notebook", help="the notebook to check, e.g. 00_warm_up.ipynb")
     parser.add_argument("--timeout", type=float, default=120.0, help="seconds per cell (default: 120)")
     args = parser.parse_args(argv)
     return check_notebook(Path(args.notebook), timeout=args.timeout)

@@ -64,7 +64,7 @@ import sys
 import threading
 import types
 
-__all__ = ["OWN", "BUILDS_ON", "forbidden", "check", "watch", "verdict", "install", "markdown", "violations", "reset", "message"]
+__all__ = ["OWN", "BUILDS_ON", "declare", "forbidden", "check", "watch", "verdict", "install", "markdown", "violations", "reset", "message"]
 
 # Routine groups. A routine is named as students write it; LOCATIONS says where it lives.
 _EDGES = ("igl.edges", "igl.edge_topology", "igl.edge_flaps", "igl.unique_edge_map", "igl.unique_edge_map_lists")
@@ -231,6 +231,7 @@ def _locations(routine: str) -> tuple[str, ...]:
     module, name = routine.rsplit(".", 1)
     private = {"scipy.linalg.orthogonal_procrustes": "scipy.linalg._procrustes",
                "scipy.linalg.polar": "scipy.linalg._decomp_polar",
+               "scipy.sparse.csgraph.laplacian": "scipy.sparse.csgraph._laplacian",
                "scipy.spatial.procrustes": "scipy.spatial._procrustes"}.get(routine)
     return (f"{module}:{name}",) + ((f"{private}:{name}",) if private else ())
 
@@ -239,6 +240,51 @@ def _locations(routine: str) -> tuple[str, ...]:
 _MODULES: tuple[str, ...] = tuple(sorted({loc.split(":")[0] for r in ROUTINES for loc in _locations(r)}))
 #: routine -> the graded functions whose policy forbids it
 _FORBIDDEN_IN: dict[str, tuple[str, ...]] = {r: tuple(f for f in OWN if r in forbidden(f)) for r in ROUTINES}
+
+def declare(own: dict, builds_on: dict | None = None) -> None:
+    """Add the graded functions of another assignment to the policy (its course pack's ``[policy]`` table).
+
+    Each notebook of such an assignment declares its table in the cell that installs
+    the policy; the grader declares it on its side too. Routines of the new rows are
+    wrapped where they live from then on, already imported modules included.
+
+    Parameters
+    ----------
+    own : dict of str to sequence of str
+        Function -> the routines that compute its answer or its defining step.
+    builds_on : dict of str to sequence of str, optional
+        Function -> the graded functions it builds on (each must be in the policy).
+
+    Raises
+    ------
+    ValueError
+        If a function is already in the policy with other routines, or builds on a function it does not know.
+    """
+    global ROUTINES, _MODULES, _FORBIDDEN_IN
+    builds_on = builds_on or {}
+    rows = {str(f): tuple(str(r) for r in routines) for f, routines in own.items()}
+    bases = {str(f): tuple(str(b) for b in builds_on.get(f, ())) for f in rows}
+    for f, routines in rows.items():
+        if f in OWN and (tuple(OWN[f]), tuple(BUILDS_ON.get(f, ()))) != (routines, bases[f]):
+            raise ValueError(f"the library policy already has {f!r} with other routines: {OWN[f]} (declared: {routines})")
+    unknown = sorted({b for f in bases for b in bases[f]} - set(OWN) - set(rows))
+    if unknown:
+        raise ValueError(f"the library policy knows no graded function {unknown} to build on")
+    if all(f in OWN for f in rows):
+        return
+    OWN.update(rows)
+    BUILDS_ON.update(bases)
+    forbidden.cache_clear()
+    ROUTINES = frozenset(r for routines in OWN.values() for r in routines)
+    _MODULES = tuple(sorted({loc.split(":")[0] for r in ROUTINES for loc in _locations(r)}))
+    _FORBIDDEN_IN = {r: tuple(f for f in OWN if r in forbidden(f)) for r in ROUTINES}
+    if _state.installed:  # wrap the new rows' routines in the modules already imported
+        for name in _MODULES:
+            module = sys.modules.get(name)
+            if isinstance(module, types.ModuleType):
+                _remember(module, name)
+                _wrap_module(module, name)
+
 
 #: cap on the pairs recorded (a loop calling a routine a million times records it once)
 MAX_RECORDS = 256

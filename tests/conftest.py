@@ -24,7 +24,7 @@ def source_notebooks(tmp_path_factory) -> dict[str, Path]:
     from grader.build.source_notebook import build_sources
 
     out = tmp_path_factory.mktemp("source")
-    return {p.stem: p for p in build_sources(ROOT / "notebooks", out, "deformation")}
+    return {p.stem: p for p in build_sources(out, "deformation")}
 
 
 # Keyed by the controlling pytest process: xdist workers are its children.

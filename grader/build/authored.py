@@ -16,7 +16,7 @@ from pathlib import Path
 
 import jupytext
 
-from grader.contract import CONTRACT_NAMES, STAGES, stage_functions, stage_of
+from grader.course_pack import Assignment, PackError, pack, pack_of_source
 
 BEGIN_SOLUTION = "### BEGIN SOLUTION"
 END_SOLUTION = "### END SOLUTION"
@@ -71,17 +71,40 @@ def referenced_names(source: str) -> set[str]:
     return {n.id for n in ast.walk(ast.parse(source)) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
 
 
-def earlier_stage(notebook: str, function: str) -> str | None:
+def earlier_stage(course: Assignment, notebook: str, function: str) -> str | None:
     """The stage that grades ``function`` if it is not ``notebook``'s own (a function the student copies over)."""
-    if notebook not in STAGES or function in stage_functions(notebook):
+    if notebook not in course.stage_names or function in course.stage_functions(notebook):
         return None
-    return stage_of(function)
+    return course.stage_of(function)
 
 
 def solution_body(source: str) -> str:
     """The code between a solution cell's markers (what a release must never contain)."""
     inside = source.split(BEGIN_SOLUTION, 1)[1].split(END_SOLUTION, 1)[0]
     return textwrap.dedent(inside.split("\n", 1)[1] if "\n" in inside else "")
+
+
+def cell_starts(path: Path, n_cells: int) -> list[int | None]:
+    """The file line (1-based) where each of the ``n_cells`` cells of a jupytext percent file begins its content.
+
+    A cell's content starts on the first non-blank line after its ``# %%`` marker;
+    None for every cell when the markers do not match the cells jupytext read.
+    """
+    lines = path.read_text(encoding="utf-8").splitlines()
+    markers = [i for i, line in enumerate(lines) if line.startswith("# %%")]
+    if len(markers) != n_cells:
+        return [None] * n_cells
+    starts = []
+    for k, m in enumerate(markers):
+        end = markers[k + 1] if k + 1 < len(markers) else len(lines)
+        first = next((i for i in range(m + 1, end) if lines[i].strip()), m)
+        starts.append(first + 1)
+    return starts
+
+
+def _where(path: Path, index: int, line: int | None, offset: int = 1) -> str:
+    """``file:line`` (what an editor jumps to) and the cell's number; ``offset`` is a line inside the cell."""
+    return f"{path}:{line + offset - 1} (cell {index + 1})" if line is not None else f"{path}, cell {index + 1}"
 
 
 def check_solution_cell(source: str, name: str, where: str) -> None:
@@ -95,7 +118,7 @@ def check_solution_cell(source: str, name: str, where: str) -> None:
     try:
         tree = ast.parse(source)
     except SyntaxError as exc:
-        raise AuthoringError(f"{where}: syntax error: {exc}") from None
+        raise AuthoringError(f"{where}: syntax error: {exc.msg} (line {exc.lineno} of the cell)") from None
     others = [n for n in tree.body if not isinstance(n, (ast.Import, ast.ImportFrom, ast.FunctionDef))]
     defs = [n for n in tree.body if isinstance(n, ast.FunctionDef)]
     if others or [d.name for d in defs] != [name]:
@@ -116,9 +139,9 @@ def check_solution_cell(source: str, name: str, where: str) -> None:
         raise AuthoringError(f"{where}: the solution of {name} is empty")
 
 
-def _classify(cell, index: int, path: Path) -> AuthoredCell:
+def _classify(cell, index: int, path: Path, course: Assignment, line: int | None = None) -> AuthoredCell:
     meta = cell.metadata.get("deformlab") or {}
-    where = f"{path.name}, cell {index + 1}"
+    where = _where(path, index, line)
     if cell.cell_type == "markdown":
         if "answer" in meta:
             points = float(meta.get("points", 0))
@@ -128,16 +151,16 @@ def _classify(cell, index: int, path: Path) -> AuthoredCell:
         return AuthoredCell("text", cell.source)
     if "solution" in meta:
         name = meta["solution"]
-        if name not in CONTRACT_NAMES:
+        if name not in course.function_names:
             raise AuthoringError(f"{where}: solution cell names {name!r}, which is not a contract function")
         check_solution_cell(cell.source, name, where)
         return AuthoredCell("solution", cell.source, function=name)
     if "tests" in meta:
         name = meta["tests"]
-        if name not in CONTRACT_NAMES:
+        if name not in course.function_names:
             raise AuthoringError(f"{where}: tests cell names {name!r}, which is not a contract function")
         points = float(meta.get("points", 0))
-        earlier = earlier_stage(path.stem, name)
+        earlier = earlier_stage(course, path.stem, name)
         if earlier and points:
             raise AuthoringError(
                 f"{where}: {name} is graded in {earlier}; its tests cell here takes no points (a bug is charged once)"
@@ -153,13 +176,16 @@ def _classify(cell, index: int, path: Path) -> AuthoredCell:
     return AuthoredCell("provided", cell.source)
 
 
-def read_authored(path: str | Path) -> AuthoredNotebook:
+def read_authored(path: str | Path, course: Assignment | None = None) -> AuthoredNotebook:
     """Parse an authored notebook and check the rules of ``notebooks/README.md``.
 
     Parameters
     ----------
     path : path-like
         A jupytext percent-format ``.py`` file.
+    course : Assignment, optional
+        Its course pack (default: the pack whose notebooks folder holds ``path``, else the
+        course's default assignment: a draft outside every pack is checked against it).
 
     Returns
     -------
@@ -171,12 +197,18 @@ def read_authored(path: str | Path) -> AuthoredNotebook:
         Naming the file, the cell and the broken rule.
     """
     path = Path(path)
+    if course is None:
+        try:
+            course = pack_of_source(path)
+        except PackError:
+            course = pack()
     nb = jupytext.read(path)
-    cells = [_classify(c, i, path) for i, c in enumerate(nb.cells)]
+    starts = cell_starts(path, len(nb.cells))
+    cells = [_classify(c, i, path, course, starts[i]) for i, c in enumerate(nb.cells)]
     solved: set[str] = set()
     tested: set[str] = set()
     for i, cell in enumerate(cells):
-        where = f"{path.name}, cell {i + 1}"
+        where = _where(path, i, starts[i])
         if cell.kind in ("text", "answer"):
             continue
         if cell.kind == "solution":
@@ -187,13 +219,13 @@ def read_authored(path: str | Path) -> AuthoredNotebook:
             used = referenced_names(cell.source)
             defined = top_level_definitions(cell.source)
         except SyntaxError as exc:
-            raise AuthoringError(f"{where}: syntax error: {exc}") from None
-        early = sorted((used & CONTRACT_NAMES) - solved)
+            raise AuthoringError(f"{_where(path, i, starts[i], exc.lineno or 1)}: syntax error: {exc.msg}") from None
+        early = sorted((used & course.function_names) - solved)
         if early:
             raise AuthoringError(f"{where}: uses {', '.join(early)} before its solution cell")
-        if cell.kind in ("provided", "exercise") and defined & CONTRACT_NAMES:
+        if cell.kind in ("provided", "exercise") and defined & course.function_names:
             raise AuthoringError(
-                f"{where}: {'an exercise' if cell.kind == 'exercise' else 'a provided'} cell defines the contract name(s) {sorted(defined & CONTRACT_NAMES)}"
+                f"{where}: {'an exercise' if cell.kind == 'exercise' else 'a provided'} cell defines the contract name(s) {sorted(defined & course.function_names)}"
             )
         if cell.kind == "tests":
             if cell.function in tested:

@@ -35,12 +35,14 @@ import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import jupytext
 import nbformat
 
 from grader.build.authored import read_authored, referenced_names, solution_body
 from grader.build.source_notebook import HIDDEN_MARKERS, authored_notebooks, build_sources
-from grader.contract import ASSIGNMENT, CONTRACT_NAMES, is_bonus, reference_function
-from grader.paths import COURSE_ID, CoursePaths, course_paths
+from grader.course_pack import Assignment, pack, packs
+from grader.gradebook import generate_assignment
+from grader.paths import CoursePaths, course_paths
 
 #: What a student installs; pinned at release time as constraints.txt pins it (see ``student_requirements``).
 STUDENT_PACKAGES = ("numpy", "scipy", "libigl", "pyvista", "matplotlib", "pillow", "ipywidgets", "ipyevents", "jupyterlab",
@@ -73,59 +75,10 @@ def student_requirements(paths: CoursePaths) -> str:
     return "# The versions this assignment was released and checked with (as constraints.txt pins them).\n" + "\n".join(lines) + "\n"
 
 
-STUDENT_README = """# Deformation assignment
-
-Eight notebooks, one per stage: `00_meshes` (warm-up), `01_shape_matching`,
-`02_sign_correction`, `03_arap`, `04_bbw`, `05_lbs`, `06_fast` for bonus
-points (ARAP in the skinning subspace), and `07_tetrahedra`, which takes the
-lecture to volumes: finite elements and ARAP on tetrahedral meshes. In each, fill in one
-function at a time where it says `YOUR CODE HERE`, then run the tests cell below
-it: its messages say what is wrong.
-
-## Install (once)
-
-    python3 -m venv .venv
-    .venv/bin/pip install -r requirements.txt
-    .venv/bin/jupyter lab
-
-Pictures render off screen; on a machine without OpenGL they fall back to
-matplotlib with a one-line warning.
-
-## Check your work
-
-    .venv/bin/python check_notebook.py 03_arap.ipynb
-
-runs the notebook top to bottom and prints, per function, whether its public
-tests pass. Hidden tests on other inputs decide the grade, so passing the
-public tests is necessary, not sufficient.
-
-Keep `starter/` and `data/` next to the notebooks; do not rename the notebooks.
-
-Grades measure your own work: `LIBRARY_POLICY.md` (and the top of each
-notebook) lists the library routines each function may not use, because they
-compute its answer. A function that calls one, even through a helper, scores 0;
-its tests cell and `check_notebook.py` name the call.
-
-`demo_skinning.ipynb` is not graded: libigl's demo 403 (pose a character with
-sliders, linear blend skinning follows in real time, export the animation as a
-GIF). Run it in JupyterLab after `05_lbs`. `demo_arap.ipynb` is not graded
-either: libigl's tutorial 405 (drag the handles of a bar, ARAP follows in real
-time); run it after `03_arap`.
-
-When grading, your solution cells and the cells that only set things up run;
-tests cells and cells that call the graded functions at top level (pictures,
-experiments) do not. Keep everything a function needs inside the function or
-in a cell that does not call a graded function.
-"""
-
-
 #: A local kernel's own notice about unencrypted TCP, printed at every start, is noise here.
 QUIET_KERNEL = ["--IPKernelApp.log_level=ERROR"]
 
 
-#: The ungraded demos in the student bundle: ``notebooks/<name>/<name>.py``, shipped as ``<name>.ipynb``.
-DEMOS = ("demo_skinning", "demo_arap")
-DEMO = DEMOS[0]
 
 
 class ReleaseError(RuntimeError):
@@ -145,23 +98,6 @@ class ReleaseReport:
         return not self.problems
 
 
-def generate_assignment(paths: CoursePaths, assignment: str, db_url: str | None = None) -> None:
-    """Run nbgrader's own ``generate_assignment`` (release notebooks + gradebook entries)."""
-    from nbgrader.apps import NbGraderAPI
-    from nbgrader.coursedir import CourseDirectory
-    from traitlets.config import Config
-
-    config = Config()
-    config.CourseDirectory.root = str(paths.course)
-    config.CourseDirectory.db_url = db_url or paths.gradebook_url
-    config.CourseDirectory.course_id = COURSE_ID
-    api = NbGraderAPI(coursedir=CourseDirectory(config=config), config=config)
-    result = api.generate_assignment(assignment, force=True, create=True)
-    if not result.get("success"):
-        log = (result.get("log") or "")[-4000:]
-        raise ReleaseError(f"nbgrader generate_assignment failed:\n{log}\n{(result.get('error') or '')[-2000:]}")
-
-
 _CHECKER_CALL = re.compile(r"^[\w, ]+ = (as_\w+|check_\w+)\(|^check_\w+\(")
 #: A body's line shorter than this (whitespace collapsed) is too generic to count as a leak.
 MIN_LEAK_CHARS = 30
@@ -172,8 +108,13 @@ def _normalized(line: str) -> str:
     return " ".join(line.split())
 
 
+def _graded_names() -> frozenset[str]:
+    """The graded functions of every assignment of the course."""
+    return frozenset(n for course in packs().values() for n in course.function_names)
+
+
 def _calls_a_contract_function(line: str) -> bool:
-    """Whether ``line`` only calls one contract function on names and constants (``data = arap_precompute(V, F, h)``).
+    """Whether ``line`` only calls one contract function on names and constants (``data = precompute(V, F, handles)``).
 
     Notebooks call graded functions everywhere by design; such a call says nothing about how they are computed.
     """
@@ -186,7 +127,7 @@ def _calls_a_contract_function(line: str) -> bool:
     call = tree.body[0].value
     plain = (ast.Name, ast.Constant, ast.Attribute)
     return (
-        isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id in CONTRACT_NAMES
+        isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id in _graded_names()
         and all(isinstance(a, plain) for a in call.args) and all(isinstance(k.value, plain) for k in call.keywords)
     )
 
@@ -247,19 +188,20 @@ def _readable_text(text: str) -> str:
     return "\n".join(parts)
 
 
-def reference_body(name: str) -> str:
-    """The body of ``reference``'s contract function ``name``, after its docstring."""
-    source = inspect.getsource(reference_function(name))
+def reference_body(name: str, course: Assignment | None = None) -> str:
+    """The body of the reference's graded function ``name`` (of ``course``, default the default assignment), after its docstring."""
+    source = inspect.getsource((course or pack()).reference_function(name))
     func = ast.parse(textwrap.dedent(source)).body[0]
     first = func.body[1] if ast.get_docstring(func) is not None else func.body[0]
     return textwrap.dedent("\n".join(textwrap.dedent(source).splitlines()[first.lineno - 1 :]))
 
 
-def teaching_bodies(notebooks_dir: Path, assignment: str) -> dict[str, str]:
+def teaching_bodies(assignment: str) -> dict[str, str]:
     """``"teaching <function> (<notebook>)"`` -> the body of every solution cell of the authored notebooks."""
     bodies = {}
-    for path in authored_notebooks(notebooks_dir, assignment):
-        for cell in read_authored(path).cells:
+    course = pack(assignment)
+    for path in authored_notebooks(assignment):
+        for cell in read_authored(path, course).cells:
             if cell.kind == "solution":
                 bodies[f"teaching {cell.function} ({path.stem})"] = solution_body(cell.source)
             elif cell.kind == "exercise":
@@ -267,7 +209,9 @@ def teaching_bodies(notebooks_dir: Path, assignment: str) -> dict[str, str]:
     return bodies
 
 
-def scan_for_leaks(texts: dict[str, str], teaching: dict[str, str] | None = None, public: set[str] = frozenset()) -> list[str]:
+def scan_for_leaks(
+    texts: dict[str, str], teaching: dict[str, str] | None = None, public: set[str] = frozenset(), course: Assignment | None = None
+) -> list[str]:
     """Problems for every release text that holds solution code, hidden tests or grader internals.
 
     A text leaks a body when it holds one of the body's distinctive lines that
@@ -283,8 +227,11 @@ def scan_for_leaks(texts: dict[str, str], teaching: dict[str, str] | None = None
         ``reference/`` are always looked for.
     public : set of str, optional
         Lines students get as public code (``public_lines``).
+    course : Assignment, optional
+        Whose reference bodies are looked for (default: the default assignment's).
     """
-    solutions = {f"reference {name}": reference_body(name) for name in sorted(CONTRACT_NAMES)} | (teaching or {})
+    course = course or pack()
+    solutions = {f"reference {name}": reference_body(name, course) for name in sorted(course.function_names)} | (teaching or {})
     bodies = {label: _distinctive_lines(body) for label, body in solutions.items()}
     forbidden = (*HIDDEN_MARKERS, "import reference", "from reference", "BEGIN SOLUTION", "END SOLUTION")
     problems = []
@@ -343,7 +290,7 @@ def check_source_execution(sources: list[Path], report: ReleaseReport, paths: Co
             report.problems.append(f"source {path.name}, cell {i + 1} fails with the teaching solutions: {why}")
 
 
-def check_release_execution(released: list[Path], report: ReleaseReport) -> None:
+def check_release_execution(released: list[Path], report: ReleaseReport, course: Assignment) -> None:
     env = {"DEFORMLAB_NO_PLOTS": "1"}
     for path in released:
         started = time.monotonic()
@@ -357,20 +304,24 @@ def check_release_execution(released: list[Path], report: ReleaseReport) -> None
             if meta.get("solution"):  # an exercise's stub raises until the student writes it
                 uses_contract = str(meta.get("grade_id", "")).startswith("exercise_")
             else:
-                uses_contract = bool(referenced_names(cell.source) & CONTRACT_NAMES)
+                uses_contract = bool(referenced_names(cell.source) & course.function_names)
             if meta.get("grade") and i not in errors:
                 report.problems.append(f"release {path.name}: tests cell {meta.get('grade_id')} passes with the stubs (vacuous test)")
             elif i in errors and not uses_contract and not meta.get("grade"):
                 report.problems.append(f"release {path.name}, cell {i + 1} fails although it uses no student function: {errors[i]}")
 
 
-def check_grades(sources: list[Path], submission_dir: Path, expect_full: bool, report: ReleaseReport, label: str, paths: CoursePaths) -> None:
+def check_grades(
+    sources: list[Path], submission_dir: Path, expect_full: bool, report: ReleaseReport, label: str, paths: CoursePaths,
+    assignment: str | None = None,
+) -> None:
     """Grade ``submission_dir``'s notebooks with the real pipeline; full marks or zero expected."""
     from grader.pipeline.run import GradeOptions, grade_class
 
+    assignment = pack(assignment).name
     with tempfile.TemporaryDirectory(prefix="dl-release-") as tmp:
         submitted = Path(tmp) / "submitted"
-        target = submitted / label / ASSIGNMENT
+        target = submitted / label / assignment
         target.mkdir(parents=True)
         for src in sources:
             shutil.copy(submission_dir / src.name, target / src.name)
@@ -380,7 +331,8 @@ def check_grades(sources: list[Path], submission_dir: Path, expect_full: bool, r
             results = grade_class(
                 submitted,
                 Path(tmp) / "out",
-                GradeOptions(db_url=f"sqlite:///{tmp}/gradebook.db", progress=False, autograded=Path(tmp) / "autograded"),
+                GradeOptions(db_url=f"sqlite:///{tmp}/gradebook.db", progress=False, autograded=Path(tmp) / "autograded",
+                             assignment=assignment),
                 paths,
             )
         report.timings[f"grade {label}"] = time.monotonic() - started
@@ -392,7 +344,37 @@ def check_grades(sources: list[Path], submission_dir: Path, expect_full: bool, r
                 report.problems.append(f"a blank submission earns {t['score']} on {r['notebook']}:{t['grade_id']}")
 
 
-def check_points(sources: list[Path], report: ReleaseReport) -> None:
+def _string_constants(source: str) -> set[str]:
+    try:
+        tree = ast.parse(source)
+    except SyntaxError:
+        return set()
+    return {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, str)}
+
+
+def check_course_files(paths: CoursePaths, course: Assignment, report: ReleaseReport) -> None:
+    """Every file of ``data/`` a notebook or demo names (``load_mesh("bar")``, ``"bar.npz"``) is shipped in the bundle.
+
+    A notebook that loads a course file missing from the bundle fails for every
+    student; this check needs no execution, so ``--no-execute`` makes it too.
+    """
+    shipped = set(course.data)
+    files = {f.name: f for f in paths.data.iterdir() if f.is_file()} if paths.data.is_dir() else {}
+    sources = [*authored_notebooks(course.name), *(paths.notebooks / d / f"{d}.py" for d in course.demos)]
+    for path in sources:
+        named = set()
+        for cell in jupytext.read(path).cells:
+            if cell.cell_type == "code":
+                named |= _string_constants(cell.source)
+        for name, f in sorted(files.items()):
+            if (name in named or f.stem in named) and name not in shipped:
+                report.problems.append(
+                    f"{path.name} loads data/{name}, which the student bundle does not ship: "
+                    f"add it to data in {course.folder / 'assignment.toml'}"
+                )
+
+
+def check_points(sources: list[Path], report: ReleaseReport, course: Assignment) -> None:
     for path in sources:
         nb = nbformat.read(path, as_version=4)
         total = manual = 0.0
@@ -402,7 +384,7 @@ def check_points(sources: list[Path], report: ReleaseReport) -> None:
                 gid, points = meta.get("grade_id", ""), meta.get("points")
                 if not points or points <= 0:
                     report.problems.append(f"{path.name}: graded cell {gid} has no points")
-                if cell.cell_type == "code" and not (gid.startswith("test_") and gid[5:] in CONTRACT_NAMES):
+                if cell.cell_type == "code" and not (gid.startswith("test_") and gid[5:] in course.function_names):
                     report.problems.append(f"{path.name}: autograded cell has an unstable grade_id {gid!r}")
                 if cell.cell_type == "code":
                     total += float(points or 0)
@@ -412,19 +394,17 @@ def check_points(sources: list[Path], report: ReleaseReport) -> None:
         report.manual_points[path.stem] = manual
 
 
-def demo_notebook(paths: CoursePaths, name: str = DEMO) -> nbformat.NotebookNode:
+def demo_notebook(paths: CoursePaths, name: str) -> nbformat.NotebookNode:
     """An ungraded demo, converted from its jupytext source ``notebooks/<name>/<name>.py``.
 
     It ships in the student bundle as ``<name>.ipynb``, not in
     ``release/<assignment>``: nbgrader rewrites that folder whenever its
     ``generate_assignment`` runs, as grading with a fresh gradebook does.
     """
-    import jupytext
-
     return jupytext.read(paths.notebooks / name / f"{name}.py")
 
 
-def check_demo_execution(demo: nbformat.NotebookNode, report: ReleaseReport, name: str = DEMO) -> None:
+def check_demo_execution(demo: nbformat.NotebookNode, report: ReleaseReport, name: str) -> None:
     """Run a demo top to bottom with pictures on, in a scratch folder (it writes a GIF where it runs)."""
     with tempfile.TemporaryDirectory(prefix="dl-demo-") as tmp:
         path = Path(tmp) / f"{name}.ipynb"
@@ -440,19 +420,30 @@ def check_demo_execution(demo: nbformat.NotebookNode, report: ReleaseReport, nam
             report.problems.append(f"demo {name}.ipynb does not show {what} ({mime})")
 
 
-def course_files(paths: CoursePaths):
-    """What students need beside the notebooks: ``starter/`` and ``data/`` (code, meshes, READMEs), the
-    files :func:`write_bundle` puts in the student bundle.
+def course_files(paths: CoursePaths, course: Assignment | None = None):
+    """What students need beside the notebooks: ``starter/`` and the files of ``data/`` the course pack
+    lists, the files :func:`write_bundle` puts in the student bundle.
 
     Yields
     ------
     (Path, Path)
         Each file and its path relative to the course kit.
+
+    Raises
+    ------
+    ReleaseError
+        If the pack lists a data file the course does not have.
+
+    ``course`` defaults to the course's default assignment.
     """
-    for folder in ("starter", "data"):
-        for f in sorted((paths.root / folder).rglob("*")):
-            if f.is_file() and "__pycache__" not in f.parts and f.suffix in (".py", ".npz", ".md"):
-                yield f, f.relative_to(paths.root)
+    for f in sorted((paths.root / "starter").rglob("*")):
+        if f.is_file() and "__pycache__" not in f.parts and f.suffix in (".py", ".md"):
+            yield f, f.relative_to(paths.root)
+    for name in (course or pack()).data:
+        f = paths.data / name
+        if not f.is_file():
+            raise ReleaseError(f"{course.folder / 'assignment.toml'}: data lists {name!r}, which {paths.data} does not hold")
+        yield f, f.relative_to(paths.root)
 
 
 def add_course_files(paths: CoursePaths, assignment: str) -> None:
@@ -466,7 +457,7 @@ def add_course_files(paths: CoursePaths, assignment: str) -> None:
     target = paths.source / assignment
     for folder in ("starter", "data"):
         shutil.rmtree(target / folder, ignore_errors=True)  # build output: no stale file survives
-    for f, relative in course_files(paths):
+    for f, relative in course_files(paths, pack(assignment)):
         (target / relative).parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(f, target / relative)
 
@@ -479,19 +470,18 @@ def _readable(name: str) -> zipfile.ZipInfo:
     return info
 
 
-def student_library_policy() -> str:
+def student_library_policy(course: Assignment) -> str:
     """The bundle's ``LIBRARY_POLICY.md``: every graded function's row, from ``starter.library_policy``'s table."""
-    from grader.contract import STAGES, stage_functions
     from starter.library_policy import markdown
 
-    functions = [f for stage in STAGES for f in stage_functions(stage)]
-    return "# The library-call policy\n\n" + markdown(functions) + "\n"
+    return "# The library-call policy\n\n" + markdown(course.functions) + "\n"
 
 
 def write_bundle(paths: CoursePaths, assignment: str) -> Path:
     """``dist/<assignment>-student.zip``: release notebooks, the demo, starter/, data/, requirements, README, self-check."""
     from grader import student_check
 
+    course = pack(assignment)
     paths.dist.mkdir(exist_ok=True)
     target = paths.dist / f"{assignment}-student.zip"
     tmp = target.with_suffix(".zip.tmp")
@@ -499,26 +489,32 @@ def write_bundle(paths: CoursePaths, assignment: str) -> Path:
         root = f"{assignment}"
         for nb in sorted((paths.release / assignment).glob("*.ipynb")):
             z.write(nb, f"{root}/{nb.name}")
-        for name in DEMOS:
+        for name in course.demos:
             z.writestr(_readable(f"{root}/{name}.ipynb"), nbformat.writes(demo_notebook(paths, name)))
-        for f, relative in course_files(paths):
+        for f, relative in course_files(paths, course):
             z.write(f, f"{root}/{relative}")
+        for f in (course.contract, *course.bundle_files):
+            if f is not None:
+                z.write(f, f"{root}/{f.name}")
         z.writestr(_readable(f"{root}/requirements.txt"), student_requirements(paths))
-        z.writestr(_readable(f"{root}/README.md"), STUDENT_README)
+        if course.readme is not None:
+            z.write(course.readme, f"{root}/README.md")
         z.write(student_check.__file__, f"{root}/check_notebook.py")
-        z.writestr(_readable(f"{root}/LIBRARY_POLICY.md"), student_library_policy())
+        z.writestr(_readable(f"{root}/LIBRARY_POLICY.md"), student_library_policy(course))
     tmp.replace(target)
     return target
 
 
-def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePaths | None = None) -> ReleaseReport:
+def release(assignment: str | None = None, execute: bool = True, paths: CoursePaths | None = None) -> ReleaseReport:
     """Build and check the release; print a report. See the module docstring for the checks."""
     paths = paths or course_paths()
+    course = pack(assignment)
+    assignment = course.name
     report = ReleaseReport()
     started = time.monotonic()
     say = functools.partial(print, flush=True)
     say("building the instructor notebooks and nbgrader's release ...")
-    sources = build_sources(paths.notebooks, paths.source, assignment)
+    sources = build_sources(paths.source, assignment)
     add_course_files(paths, assignment)
     generate_assignment(paths, assignment)
     released = sorted((paths.release / assignment).glob("*.ipynb"))
@@ -530,19 +526,20 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
         for name in z.namelist():
             if name.endswith((".py", ".ipynb", ".md", ".txt")):
                 texts[f"{bundle.name}:{name}"] = z.read(name).decode("utf-8", "replace")
-    report.problems += scan_for_leaks(texts, teaching_bodies(paths.notebooks, assignment), public_lines(paths))
-    check_points(sources, report)
+    report.problems += scan_for_leaks(texts, teaching_bodies(assignment), public_lines(paths), course)
+    check_points(sources, report, course)
+    check_course_files(paths, course, report)
     if execute:
         steps = (
             ("executing the instructor notebooks", lambda: check_source_execution(sources, report, paths)),
             ("grading the teaching solutions (they must earn every point)",
-             lambda: check_grades(sources, paths.source / assignment, True, report, "teaching", paths)),
-            ("executing the release notebooks with their stubs", lambda: check_release_execution(released, report)),
+             lambda: check_grades(sources, paths.source / assignment, True, report, "teaching", paths, assignment)),
+            ("executing the release notebooks with their stubs", lambda: check_release_execution(released, report, course)),
             ("grading the blank release (it must earn nothing)",
-             lambda: check_grades(sources, paths.release / assignment, False, report, "blank", paths)),
+             lambda: check_grades(sources, paths.release / assignment, False, report, "blank", paths, assignment)),
         ) + tuple(
             (f"executing the demo {name}", lambda name=name: check_demo_execution(demo_notebook(paths, name), report, name))
-            for name in DEMOS
+            for name in course.demos
         )
         for k, (what, step) in enumerate(steps, 1):
             say(f"[{k}/{len(steps)}] {what} ...")
@@ -550,12 +547,12 @@ def release(assignment: str = ASSIGNMENT, execute: bool = True, paths: CoursePat
         report.executed = True
     report.timings["release total"] = time.monotonic() - started
 
-    regular = [nb for nb in report.points if not is_bonus(nb)]
+    regular = [nb for nb in report.points if not course.is_bonus(nb)]
     say(f"  {'notebook':<22} {'autograded':>10} {'by hand':>8}")
     for nb, pts in report.points.items():
-        say(f"  {nb:<22} {pts:10g} {report.manual_points[nb]:8g}" + ("  (bonus)" if is_bonus(nb) else ""))
+        say(f"  {nb:<22} {pts:10g} {report.manual_points[nb]:8g}" + ("  (bonus)" if course.is_bonus(nb) else ""))
     say(f"  {'total':<22} {sum(report.points[nb] for nb in regular):10g} {sum(report.manual_points[nb] for nb in regular):8g}"
-        f"  + {sum(p for nb, p in report.points.items() if is_bonus(nb)):g} bonus")
+        f"  + {sum(p for nb, p in report.points.items() if course.is_bonus(nb)):g} bonus")
     say("  (grades.csv holds the autograded points; the answers graded by hand are scored in formgrader)")
     for what, secs in report.timings.items():
         say(f"  {what:<28} {secs:6.1f} s")

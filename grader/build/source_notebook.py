@@ -18,7 +18,7 @@ from pathlib import Path
 import nbformat
 
 from grader.build.authored import AuthoredNotebook, AuthoringError, read_authored
-from grader.contract import STAGES, stage_functions
+from grader.course_pack import Assignment, pack
 from starter import library_policy
 
 BEGIN_HIDDEN = "### BEGIN HIDDEN TESTS"
@@ -56,14 +56,14 @@ def _nbgrader(grade_id: str, *, grade: bool, solution: bool, locked: bool, point
     return {"nbgrader": meta}
 
 
-def hidden_section(function: str) -> str:
+def hidden_section(function: str, assignment: str) -> str:
     return "\n".join(
         [
             BEGIN_HIDDEN,
             "# Graded in the grading process on fresh hidden inputs (grader/checks); here the",
             "# same checks run against this notebook's functions.",
             "from grader.checks import run_hidden_checks as _run_hidden_checks",
-            f"_hidden_result = _run_hidden_checks({function!r}, globals())",
+            f"_hidden_result = _run_hidden_checks({function!r}, globals(), assignment={assignment!r})",
             END_HIDDEN,
         ]
     )
@@ -78,9 +78,21 @@ POLICY_INSTALL = (
 )
 
 
-def grading_rules(notebook: str, functions: list[str]) -> str:
+def policy_install(course: Assignment) -> str:
+    """The cell that installs the library policy; a pack with its own ``[policy]`` declares its rows first."""
+    if not course.policy:
+        return POLICY_INSTALL
+    own = {f: list(course.policy[f]) for f in course.functions}
+    builds_on = {f: list(course.builds_on.get(f, ())) for f in course.functions}
+    return POLICY_INSTALL.replace(
+        "library_policy.install()",
+        f"library_policy.declare(\n    {own!r},\n    {builds_on!r},\n)\nlibrary_policy.install()",
+    )
+
+
+def grading_rules(course: Assignment, notebook: str, functions: list[str]) -> str:
     """How the notebook's functions are graded: each on its own work (``grader/checks/callees.py``), once."""
-    graded = set(stage_functions(notebook)) if notebook in STAGES else set(functions)
+    graded = set(course.stage_functions(notebook)) if notebook in course.stage_names else set(functions)
     copied = [f for f in functions if f not in graded]
     lines = [
         "**How your functions are graded.** Each function is graded on its own work, on hidden inputs.",
@@ -105,12 +117,12 @@ def grading_rules(notebook: str, functions: list[str]) -> str:
     return "\n".join(lines)
 
 
-def policy_cells(notebook: str, functions: list[str]) -> list[nbformat.NotebookNode]:
+def policy_cells(course: Assignment, notebook: str, functions: list[str]) -> list[nbformat.NotebookNode]:
     """How the notebook is graded and its library policy (``starter.library_policy``'s table), and the cell that installs the policy."""
-    text = grading_rules(notebook, functions) + "\n\n" + library_policy.markdown(functions)
+    text = grading_rules(course, notebook, functions) + "\n\n" + library_policy.markdown(functions)
     # the install cell's grade id is the notebook's own: a grade id shared by every notebook would
     # let another stage's notebook pass for this one (sanitize matches submissions by grade ids)
-    return [nbformat.v4.new_markdown_cell(text), _provided_cell(POLICY_INSTALL, 0, salt=notebook)]
+    return [nbformat.v4.new_markdown_cell(text), _provided_cell(policy_install(course), 0, salt=notebook)]
 
 
 def with_policy_check(function: str, source: str) -> str:
@@ -130,19 +142,30 @@ def _provided_cell(source: str, number: int, salt: str = "") -> nbformat.Noteboo
     )
 
 
-def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
-    """Assemble the nbgrader source notebook of an authored notebook."""
+def build_source_notebook(authored: AuthoredNotebook, course: Assignment | None = None) -> nbformat.NotebookNode:
+    """Assemble the nbgrader source notebook of an authored notebook of ``course``.
+
+    ``course`` defaults to the course's default assignment. Its metadata carry what grading reads from it: the assignment, whether its
+    points are bonus, and every graded function of the assignment (cells that call
+    one at top level are experiments, not run when grading).
+    """
+    course = course or pack()
     nb = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = dict(KERNELSPEC)
     nb.metadata["language_info"] = {"name": "python"}
-    nb.metadata["deformlab"] = {"notebook": authored.name}
+    nb.metadata["deformlab"] = {
+        "notebook": authored.name,
+        "assignment": course.name,
+        "bonus": course.is_bonus(authored.name),
+        "functions": sorted(course.function_names),
+    }
     provided = 0
     functions = [c.function for c in authored.cells if c.kind == "solution"]
     for cell in authored.cells:
         if cell.kind == "text":
             nb.cells.append(nbformat.v4.new_markdown_cell(cell.source))
             if len(nb.cells) == 1:  # the policy follows the notebook's first text
-                nb.cells += policy_cells(authored.name, functions)
+                nb.cells += policy_cells(course, authored.name, functions)
         elif cell.kind == "answer":
             nb.cells.append(
                 nbformat.v4.new_markdown_cell(
@@ -175,7 +198,7 @@ def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
                 )
             )
         elif cell.kind == "tests":
-            source = with_policy_check(cell.function, cell.source) + "\n\n" + hidden_section(cell.function)
+            source = with_policy_check(cell.function, cell.source) + "\n\n" + hidden_section(cell.function, course.name)
             nb.cells.append(
                 nbformat.v4.new_code_cell(
                     source,
@@ -187,14 +210,16 @@ def build_source_notebook(authored: AuthoredNotebook) -> nbformat.NotebookNode:
     return nb
 
 
-def authored_notebooks(notebooks_dir: Path, assignment: str) -> list[Path]:
-    paths = sorted((Path(notebooks_dir) / assignment).glob("[0-9][0-9]_*.py"))
+def authored_notebooks(assignment: str) -> list[Path]:
+    """The authored notebooks (``NN_stage.py``) of ``assignment``, from its course pack's notebooks folder."""
+    folder = pack(assignment).notebooks
+    paths = sorted(folder.glob("[0-9][0-9]_*.py"))
     if not paths:
-        raise AuthoringError(f"no authored notebooks (NN_stage.py) in {Path(notebooks_dir) / assignment}")
+        raise AuthoringError(f"no authored notebooks (NN_stage.py) in {folder}")
     return paths
 
 
-def build_sources(notebooks_dir: Path, source_dir: Path, assignment: str) -> list[Path]:
+def build_sources(source_dir: Path, assignment: str) -> list[Path]:
     """Write ``source_dir/<assignment>/NN_stage.ipynb`` for every authored notebook.
 
     Returns
@@ -205,8 +230,9 @@ def build_sources(notebooks_dir: Path, source_dir: Path, assignment: str) -> lis
     out_dir = Path(source_dir) / assignment
     out_dir.mkdir(parents=True, exist_ok=True)
     written = []
-    for path in authored_notebooks(notebooks_dir, assignment):
-        nb = build_source_notebook(read_authored(path))
+    course = pack(assignment)
+    for path in authored_notebooks(assignment):
+        nb = build_source_notebook(read_authored(path, course), course)
         target = out_dir / f"{path.stem}.ipynb"
         nbformat.write(nb, target)
         written.append(target)

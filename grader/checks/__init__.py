@@ -1,12 +1,15 @@
-"""Trusted verifiers, one module per stage, one ``FunctionChecks`` per contract function.
+"""Trusted verifiers: the hidden checks of a course pack, keyed by (assignment, function).
 
-``all_checks()[name]`` gives the checks of contract function ``name``; ``evaluate``
+``all_checks(assignment)[name]`` gives the checks of graded function ``name``,
+every ``FunctionChecks`` subclass of the pack's ``checks`` package; ``evaluate``
 turns a student's collected outputs into verdicts and a score fraction.
 """
 
 from __future__ import annotations
 
 import functools
+import importlib
+import pkgutil
 import traceback
 import zlib
 from dataclasses import dataclass, field
@@ -17,30 +20,36 @@ import scipy.sparse as sp
 
 from grader.checks import callees
 from grader.checks.base import Case, FunctionChecks, ShapeError, Verdict, raised_verdict, run_steps
-from grader.contract import reference_function
+from grader.course_pack import pack
 from grader.harness.outputs import MAX_CALLS, RECORD_ELEMENTS, CaseOutput
 
 
 @functools.cache
-def all_checks() -> dict[str, FunctionChecks]:
-    """Contract function name -> its checks, from every stage module."""
-    from grader.checks import (
-        arap,
-        bbw,
-        dual_quaternion_skinning,
-        fast,
-        lbs,
-        meshes,
-        rotations,
-        shape_matching,
-        tetrahedra,
-    )
+def all_checks(assignment: str | None = None) -> dict[str, FunctionChecks]:
+    """Graded function name -> its checks, from every module of the pack's ``checks`` package.
 
+    Raises
+    ------
+    grader.course_pack.PackError
+        If a graded function has no checks, or two classes check one function.
+    """
+    course = pack(assignment)
+    package = course.checks_module()
+    modules = [package] + [
+        importlib.import_module(f"{package.__name__}.{info.name}") for info in pkgutil.iter_modules(package.__path__)
+    ]
     found: dict[str, FunctionChecks] = {}
-    for module in (meshes, shape_matching, rotations, arap, bbw, lbs, dual_quaternion_skinning, fast, tetrahedra):
+    for module in modules:
         for obj in vars(module).values():
             if isinstance(obj, type) and issubclass(obj, FunctionChecks) and obj.function and obj.__module__ == module.__name__:
-                found[obj.function] = obj()
+                if obj.function in found:
+                    raise ValueError(f"{course.name}: two classes check {obj.function!r}: {type(found[obj.function]).__name__} and {obj.__name__}")
+                checks = obj()
+                checks.assignment = course.name
+                found[obj.function] = checks
+    missing = sorted(course.function_names - set(found))
+    if missing:
+        raise ValueError(f"assignment {course.name!r}: no hidden checks for {missing} in {package.__name__}")
     return found
 
 
@@ -109,24 +118,27 @@ def charge_policy(result: FunctionResult, violations: tuple[str, ...]) -> Functi
     return result
 
 
-def reference_outputs(cases: list[Case]) -> list[Any]:
+def reference_outputs(cases: list[Case], assignment: str | None = None) -> list[Any]:
     """The reference's output on every case, computed in this (trusted) process (``None`` for a case that must raise)."""
-    return [None if "raises" in case.context else run_steps(case, reference_function) for case in cases]
+    function = pack(assignment).reference_function
+    return [None if "raises" in case.context else run_steps(case, function) for case in cases]
 
 
-#: function -> the course functions its reference called on its hidden cases (``callees.trace``)
-_REACHED: dict[str, frozenset[str]] = {}
+#: (assignment, function) -> the course functions its reference called on its hidden cases (``callees.trace``)
+_REACHED: dict[tuple[str, str], frozenset[str]] = {}
 
 
-def record_plan(function: str, seed: int | tuple[int, ...] = 0) -> dict:
+def record_plan(function: str, seed: int | tuple[int, ...] = 0, assignment: str | None = None) -> dict:
     """What the collector records while ``function`` is collected: the course functions a rerun may need.
 
     Sent to the kernel with the fixtures: names, the sketches' seed and the recordings' budget; never an expected value.
     """
-    seeded_cases(function, seed)  # fills _REACHED[function]
+    assignment = pack(assignment).name
+    seeded_cases(function, seed, assignment)  # fills _REACHED
+    course = callees.course_callees(pack(assignment))
     return {
-        "names": callees.recorded_names(function, _REACHED[function]),
-        "batched": {name: param for name, (param, _) in callees.BATCHED.items()},
+        "names": callees.recorded_names(course, function, _REACHED[(assignment, function)]),
+        "batched": {name: param for name, (param, _) in course.batched.items()},
         "seed": sketch_seed(seed),
         "budget": RECORD_ELEMENTS,
         "max_calls": MAX_CALLS,
@@ -146,7 +158,8 @@ def _own_work(checks: FunctionChecks, case: Case, out: CaseOutput, seed) -> tupl
     """
     if not out.calls or seed is None:
         return ()
-    rerun = callees.own_work_output(case, out.calls, checks.function, sketch_seed(seed))
+    course = callees.course_callees(pack(checks.assignment))
+    rerun = callees.own_work_output(course, case, out.calls, checks.function, sketch_seed(seed))
     if rerun is None or not rerun[1]:
         return ()
     output, substituted, raised = rerun
@@ -207,32 +220,40 @@ def wire(value: Any) -> Any:
     return np.array(value)
 
 
+def seeded_cases(function: str, seed: int | tuple[int, ...] = 0, assignment: str | None = None) -> tuple[list[Case], list[Any]]:
+    """The cases of ``function`` of ``assignment`` (default: the course's default) drawn with ``default_rng(seed)``,
+    and the reference's outputs on them (cached per process)."""
+    return _seeded_cases(pack(assignment).name, function, seed)
+
+
 @functools.lru_cache(maxsize=128)
-def seeded_cases(function: str, seed: int | tuple[int, ...] = 0) -> tuple[list[Case], list[Any]]:
-    """The cases of ``function`` drawn with ``default_rng(seed)`` and the reference's outputs on them (cached)."""
-    cases = all_checks()[function].cases(np.random.default_rng(seed))
-    outputs, reached = callees.trace(lambda: reference_outputs(cases))
-    _REACHED[function] = _REACHED.get(function, frozenset()) | reached
+def _seeded_cases(assignment: str, function: str, seed: int | tuple[int, ...]) -> tuple[list[Case], list[Any]]:
+    cases = all_checks(assignment)[function].cases(np.random.default_rng(seed))
+    course = callees.course_callees(pack(assignment))
+    outputs, reached = callees.trace(course, lambda: reference_outputs(cases, assignment))
+    key = (assignment, function)
+    _REACHED[key] = _REACHED.get(key, frozenset()) | reached
     return cases, outputs
 
 
-def check_namespace(function: str, namespace: dict, seed: int = 0) -> FunctionResult:
+def check_namespace(function: str, namespace: dict, seed: int = 0, assignment: str | None = None) -> FunctionResult:
     """Verdicts for the implementations in ``namespace`` (name -> function), run in this process.
 
     The outputs go through the same conversion as the kernel's wire, so the
     verdicts are those grading would give.
     """
-    cases, expected = seeded_cases(function, seed)
+    assignment = pack(assignment).name
+    cases, expected = seeded_cases(function, seed, assignment)
     outputs = []
     for case in cases:
         try:
             outputs.append(CaseOutput(wire(run_steps(case, lambda n: namespace[n])), None, None))
         except Exception as exc:  # noqa: BLE001 - a failing implementation fails its case
             outputs.append(CaseOutput(None, f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=2)}", None))
-    return evaluate(all_checks()[function], cases, outputs, expected)
+    return evaluate(all_checks(assignment)[function], cases, outputs, expected)
 
 
-def run_hidden_checks(function: str, namespace: dict, seed: int = 0) -> FunctionResult | None:
+def run_hidden_checks(function: str, namespace: dict, seed: int = 0, assignment: str | None = None) -> FunctionResult | None:
     """Run the hidden checks of ``function`` against the functions in ``namespace``.
 
     Used by the instructor (source) notebooks; grading runs the same checks
@@ -243,17 +264,18 @@ def run_hidden_checks(function: str, namespace: dict, seed: int = 0) -> Function
     AssertionError
         Listing the failed cases.
     """
-    checks = all_checks()[function]
-    # A function whose cases call one defined later in the notebook (arap_precompute needs
-    # arap_global_step) is checked at the first tests cell where everything it needs exists.
+    assignment = pack(assignment).name
+    checks = all_checks(assignment)[function]
+    # A function whose cases call one defined later in the notebook (a precomputation graded
+    # through the solve step that uses it) is checked at the first tests cell where everything it needs exists.
     pending = namespace.setdefault("__deformlab_pending_checks__", [])
     if any(n not in namespace for n in checks.needs):
         pending.append(function)
         return None
-    for waiting in [f for f in pending if all(n in namespace for n in all_checks()[f].needs)]:
+    for waiting in [f for f in pending if all(n in namespace for n in all_checks(assignment)[f].needs)]:
         pending.remove(waiting)
-        run_hidden_checks(waiting, namespace, seed)
-    result = check_namespace(function, namespace, seed)
+        run_hidden_checks(waiting, namespace, seed, assignment)
+    result = check_namespace(function, namespace, seed, assignment)
     if result.fraction < 1.0:
         raise AssertionError(f"hidden checks of {function}: {result.summary()}")
     return result

@@ -210,13 +210,16 @@ class FunctionChecks:
     function : str
         The contract function checked.
     needs : tuple of str
-        Other contract functions the cases call (e.g. ``arap_precompute``).
+        Other graded functions the cases call (a precomputation's cases call the step that uses it).
+    assignment : str
+        The assignment whose pack declares these checks (set when the engine registers them).
     description : str
         One line shown in feedback and in the notebook's hidden section.
     """
 
     function: str = ""
     needs: tuple[str, ...] = ()
+    assignment: str = ""
     description: str = ""
 
     def cases(self, rng: np.random.Generator) -> list[Case]:

@@ -1,8 +1,8 @@
 """A bug is charged once: judge a function with the student's own outputs of the course functions it calls.
 
-When ``arap_rotations`` calls the student's ``optimal_rotation`` and that one
-takes its sign from ``det(S)``, the rotations are wrong although
-``arap_rotations``'s own logic is right. The kernel records every call the
+When a student's function calls another graded function of theirs that is
+wrong (a best-rotation fit taking its sign from ``det(S)``, say), the caller's
+output is wrong although its own logic is right. The kernel records every call the
 collected function makes to the other course functions (their arguments'
 sketches and their outputs, ``grader.harness.kernel_side``); here the reference
 reruns the hidden case with those outputs in place of its own
@@ -16,8 +16,17 @@ between course functions go through module globals; :func:`install` wraps those
 globals once per process so that, inside :func:`own_work_output` only (a
 ``ContextVar``, so threads never see each other's substitutions), a call whose
 arguments match a recorded call returns the student's recorded output.
-Where the reference computes a callee inline, ``COMPOSITIONS`` writes the
-caller as its contract defines it in terms of its callees.
+Where the reference computes a callee inline, the course pack's ``COMPOSITIONS``
+write the caller as its contract defines it in terms of its callees.
+
+What is the course's lives in its pack's ``checks`` package, read by :func:`course_callees`:
+``BATCHED`` (name -> (the argument holding a stack of independent items, the
+number of trailing axes of one item): recorded whole, matched item by item, so a
+student who calls them once per vertex is matched as well as one who calls them
+on the stack), ``ALIASES`` (private reference functions that compute a graded
+function on input already checked: a substitution applies to them too) and
+``COMPOSITIONS`` (caller -> (its definition in terms of the course functions it
+calls, given an object whose attributes are those functions; those functions)).
 """
 
 from __future__ import annotations
@@ -33,27 +42,12 @@ from typing import Any, Callable
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
 from grader.checks.base import Case, close, max_abs, run_steps
-from grader.contract import CONTRACT_NAMES, MODULE_OF, reference_function
+from grader.course_pack import Assignment
 from grader.harness.kernel_side import __deformlab_sketch__ as sketch
 from grader.harness.outputs import RecordedCall
-
-#: Functions called on a stack of independent items (leading axes): recorded whole and matched item by item,
-#: so a student who calls them once per vertex is matched as well as one who calls them on the stack.
-#: name -> (the argument holding the items, the number of trailing axes of one item)
-BATCHED: dict[str, tuple[str, int]] = {"optimal_rotation": ("S", 2)}
-
-#: Private reference functions that compute a contract function on input already checked, called
-#: inside the reference in its place: a substitution of the contract function applies to them too.
-ALIASES: dict[str, str] = {
-    "_biharmonic_matrix": "biharmonic_matrix",
-    "tet_volumes_unchecked": "tet_volumes",
-    "_tet_cotangent_laplacian": "tet_cotangent_laplacian",
-    "_tet_mass_matrix": "tet_mass_matrix",
-}
 
 #: Relative tolerance of a sketch match: arguments computed in another order agree to ~1e-13.
 MATCH_TOL = 1e-7
@@ -61,86 +55,42 @@ MATCH_TOL = 1e-7
 OWN_WORK_TOL = 1e-6
 
 
-def _arap_solve(f, data, handle_positions, U0=None, iterations=10):
-    """``arap_solve`` as its contract defines it: local step, global step, energy, ``iterations`` times."""
-    V, F, C = data.V, data.F, data.C
-    U = np.array(V if U0 is None else U0, dtype=float)
-    U[data.handles] = handle_positions
-    energies = []
-    for _ in range(int(iterations)):
-        R = f.arap_rotations(V, U, F, C)
-        U = f.arap_global_step(data, R, handle_positions)
-        energies.append(f.arap_energy(V, U, F, C, R))
-    return U, np.array(energies, dtype=float)
+@dataclass(frozen=True)
+class CourseCallees:
+    """An assignment's graded functions as the reruns see them."""
+
+    assignment: Assignment
+    batched: dict[str, tuple[str, int]]
+    aliases: dict[str, str]
+    compositions: dict[str, tuple[Callable, tuple[str, ...]]]
+
+    def callees(self) -> "_Callees":
+        return _Callees(self.assignment)
+
+    def resolve(self, name: str) -> Callable:
+        """A case step's function in a rerun: its composition where it has one, else the (substitutable) reference."""
+        if name in self.compositions:
+            return functools.partial(self.compositions[name][0], self.callees())
+        return self.assignment.reference_function(name)
 
 
-class _LU:
-    """The LU factors of a square sparse matrix, with the ``solve`` and ``solve_into`` of the reference's Cholesky factor.
-
-    A student's Laplacian may be indefinite (a sign error), which Cholesky refuses; the student's
-    own code factored it, so the rerun does too.
-    """
-
-    def __init__(self, A):
-        self._lu = spla.splu(sp.csc_matrix(A))
-
-    def solve(self, b):
-        return self._lu.solve(np.asarray(b, dtype=float))
-
-    def solve_into(self, b, x):
-        x[...] = self.solve(b)
+_COURSES: dict[tuple[str, str], CourseCallees] = {}
 
 
-def _arap_precompute(f, V, F, handles):
-    """``arap_precompute`` from the course's weights and Laplacian (the student's, in a rerun)."""
-    from reference import arap
-
-    checked = _pure(arap.arap_precompute, (V, F, handles), {})  # the reference's own checks of the input
-    C = np.asarray(f.cotangent_weights(V, F), dtype=float)
-    L = sp.csr_matrix(f.cotangent_laplacian(V, F), dtype=float)
-    return arap._precomputed(checked.V, checked.F, checked.handles, C, L, factor=_LU)
-
-
-def _dqs(f, V, W, T):
-    """``dqs``: blend the handles' dual quaternions (handle 0 the pivot), one rigid motion per vertex."""
-    V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)
-    Q = np.array(f.dual_quaternions(T), dtype=float)
-    Q[Q[:, 0] @ Q[0, 0] < 0] *= -1.0
-    blends = (W @ Q.reshape(len(Q), 8)).reshape(len(V), 2, 4)
-    motions = np.asarray(f.dual_quaternion_transforms(blends), dtype=float)
-    return np.einsum("iab,ib->ia", motions[:, :, :3], V) + motions[:, :, 3]
-
-
-def _tet_biharmonic_matrix(f, V, T):
-    """``tet_biharmonic_matrix``: ``L M⁻¹ L`` from the course's Laplacian and mass matrix."""
-    L = sp.csr_matrix(f.tet_cotangent_laplacian(V, T), dtype=float)
-    M = sp.csr_matrix(f.tet_mass_matrix(V, T), dtype=float)
-    return (L @ sp.diags(1.0 / M.diagonal()) @ L).tocsr()
-
-
-def _tet_arap_precompute(f, V, T, handles):
-    """``tet_arap_precompute`` with the course's Laplacian and volumes in place of the reference's own."""
-    from reference import tetrahedra
-
-    data = _pure(tetrahedra.tet_arap_precompute, (V, T, handles), {})
-    L = sp.csr_matrix(f.tet_cotangent_laplacian(V, T), dtype=float)
-    data.volumes = np.abs(np.asarray(f.tet_volumes(V, T), dtype=float))
-    data.L = L
-    L_free = L[data.free]
-    data.L_free_handles = L_free[:, data.handles].tocsr()
-    if data.free.size:
-        data.solver = _LU(-L_free[:, data.free])
-    return data
-
-
-#: caller -> (its definition in terms of the course functions it calls, those functions)
-COMPOSITIONS: dict[str, tuple[Callable, tuple[str, ...]]] = {
-    "arap_precompute": (_arap_precompute, ("cotangent_weights", "cotangent_laplacian")),
-    "arap_solve": (_arap_solve, ("arap_rotations", "arap_global_step", "arap_energy")),
-    "dqs": (_dqs, ("dual_quaternions", "dual_quaternion_transforms")),
-    "tet_biharmonic_matrix": (_tet_biharmonic_matrix, ("tet_cotangent_laplacian", "tet_mass_matrix")),
-    "tet_arap_precompute": (_tet_arap_precompute, ("tet_cotangent_laplacian", "tet_volumes")),
-}
+def course_callees(assignment: Assignment) -> CourseCallees:
+    """The pack's ``BATCHED``, ``ALIASES`` and ``COMPOSITIONS`` (empty where it declares none), its reference wrapped."""
+    key = (assignment.name, str(assignment.folder))
+    if key not in _COURSES:
+        checks = assignment.checks_module()
+        course = CourseCallees(
+            assignment,
+            dict(getattr(checks, "BATCHED", {})),
+            dict(getattr(checks, "ALIASES", {})),
+            dict(getattr(checks, "COMPOSITIONS", {})),
+        )
+        _install(course)
+        _COURSES[key] = course
+    return _COURSES[key]
 
 
 _REPLAY: contextvars.ContextVar["_Replay | None"] = contextvars.ContextVar("deformlab_replay", default=None)
@@ -161,16 +111,17 @@ class _Substitutable:
         return replay.call(self.name, self.fn, args, kwargs)
 
 
-@functools.cache
-def install() -> None:
-    """Wrap, once per process, every module global of ``reference`` that is a course function (or an alias)."""
-    for module in sorted(set(MODULE_OF.values())):
-        importlib.import_module(f"reference.{module}")
+def _install(course: CourseCallees) -> None:
+    """Wrap, once per process, every module global of the reference package that is a graded function (or an alias)."""
+    assignment = course.assignment
+    for module in assignment.reference_modules():
+        importlib.import_module(module.__name__)
+    root = assignment.reference
     for modname, module in list(sys.modules.items()):
-        if module is None or not (modname == "reference" or modname.startswith("reference.")):
+        if module is None or not (modname == root or modname.startswith(root + ".")):
             continue
         for attr, value in list(vars(module).items()):
-            name = attr if attr in CONTRACT_NAMES else ALIASES.get(attr)
+            name = attr if attr in assignment.function_names else course.aliases.get(attr)
             if name is not None and inspect.isfunction(value):
                 setattr(module, attr, _Substitutable(name, value))
 
@@ -212,7 +163,7 @@ def _bound_sketches(fn: Callable, call: "RecordedCall", seed: int) -> dict | Non
     }
 
 
-def _pure(fn: Callable, args: tuple, kwargs: dict) -> Any:
+def pure(fn: Callable, args: tuple, kwargs: dict) -> Any:
     """The reference's own output, no substitution inside."""
     token = _REPLAY.set(None)
     try:
@@ -244,6 +195,7 @@ def _same_output(a: Any, b: Any) -> bool:
 class _Replay:
     """The recorded calls of one case, answering the reference's calls that match them."""
 
+    course: CourseCallees
     caller: str
     calls: list[RecordedCall]
     seed: int
@@ -254,7 +206,7 @@ class _Replay:
     def call(self, name: str, fn: Callable, args: tuple, kwargs: dict):
         if name == self.caller:
             return fn(*args, **kwargs)
-        if name in BATCHED:
+        if name in self.course.batched:
             return self._batched(name, fn, args, kwargs)
         ours = _bound(fn, args, kwargs)
         if ours is not None:
@@ -267,23 +219,24 @@ class _Replay:
                     _sketch_matches(ours[p], theirs[p]) for p in ours
                 ):
                     # whether the student's output differs: asked once per callee, a reference run each time
-                    if name not in self.substituted and not _same_output(call.output, _pure(fn, args, kwargs)):
+                    if name not in self.substituted and not _same_output(call.output, pure(fn, args, kwargs)):
                         self.substituted.add(name)
                     return call.output
         # not called on these arguments (or not readable, as a precomputation object): the reference's
         # own, as the caller's contract defines it in terms of the callees that may be substituted
-        if name in COMPOSITIONS and name not in self._composing:  # a composition may call its own reference
+        compositions = self.course.compositions
+        if name in compositions and name not in self._composing:  # a composition may call its own reference
             self._composing.add(name)
             try:
-                return COMPOSITIONS[name][0](_Callees(), *args, **kwargs)
+                return compositions[name][0](self.course.callees(), *args, **kwargs)
             finally:
                 self._composing.discard(name)
         return fn(*args, **kwargs)
 
     def _batched(self, name: str, fn: Callable, args: tuple, kwargs: dict):
-        param, item_axes = BATCHED[name]
+        param, item_axes = self.course.batched[name]
         bound = _bound(fn, args, kwargs)
-        reference = _pure(fn, args, kwargs)
+        reference = pure(fn, args, kwargs)
         if bound is None:
             return reference
         query = np.asarray(bound[param], dtype=float)
@@ -329,18 +282,14 @@ class _Replay:
 class _Callees:
     """``f.name(...)`` in a composition: the course function ``name``, substitutable."""
 
+    def __init__(self, assignment: Assignment):
+        self._assignment = assignment
+
     def __getattr__(self, name: str) -> Callable:
-        return reference_function(name)
+        return self._assignment.reference_function(name)
 
 
-def _resolve(name: str) -> Callable:
-    """A case step's function in a rerun: its composition where it has one, else the (substitutable) reference."""
-    if name in COMPOSITIONS:
-        return functools.partial(COMPOSITIONS[name][0], _Callees())
-    return reference_function(name)
-
-
-def recorded_names(function: str, reached: frozenset[str]) -> list[str]:
+def recorded_names(course: CourseCallees, function: str, reached: frozenset[str]) -> list[str]:
     """The course functions to record while ``function`` is collected: what its rerun may call, less itself.
 
     ``reached`` are the course functions the reference called on the hidden cases (the cases' own
@@ -348,13 +297,12 @@ def recorded_names(function: str, reached: frozenset[str]) -> list[str]:
     """
     names = set(reached)
     for name in {function} | set(reached):
-        names |= set(COMPOSITIONS.get(name, (None, ()))[1])
+        names |= set(course.compositions.get(name, (None, ()))[1])
     return sorted(names - {function})
 
 
-def trace(run: Callable[[], Any]) -> tuple[Any, frozenset[str]]:
+def trace(course: CourseCallees, run: Callable[[], Any]) -> tuple[Any, frozenset[str]]:
     """``run()`` and the course functions the reference called inside it (the callees worth recording)."""
-    install()
     tracer = _Tracer()
     token = _REPLAY.set(tracer)
     try:
@@ -373,12 +321,14 @@ class _Tracer:
 
 
 def own_work_output(
-    case: Case, calls: list[RecordedCall], caller: str, seed: int
+    course: CourseCallees, case: Case, calls: list[RecordedCall], caller: str, seed: int
 ) -> tuple[Any, set[str], str | None] | None:
     """The reference's output on ``case`` given the student's recorded callee outputs.
 
     Parameters
     ----------
+    course : CourseCallees
+        The assignment of ``caller`` (:func:`course_callees`).
     case : Case
         A hidden case of ``caller``.
     calls : list of RecordedCall
@@ -398,11 +348,10 @@ def own_work_output(
         then ``output`` is None; None when the rerun fails otherwise (the
         student's callee outputs do not fit the reference's code).
     """
-    install()
-    replay = _Replay(caller, calls, seed)
+    replay = _Replay(course, caller, calls, seed)
     token = _REPLAY.set(replay)
     try:
-        return run_steps(case, _resolve), replay.substituted, None
+        return run_steps(case, course.resolve), replay.substituted, None
     except ValueError as exc:  # what the contract says the function raises on such input
         return None, replay.substituted, type(exc).__name__
     except Exception:  # noqa: BLE001 - outputs the reference cannot digest: no second chance

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from grader.contract import is_bonus
+from grader.course_pack import is_bonus
 
 
 @dataclass(frozen=True)
@@ -65,7 +65,7 @@ def read_gradebook(db_url: str, assignment: str) -> dict[str, GradebookSubmissio
         for submission in submissions:
             entry = GradebookSubmission(submission.student.id, float(submission.score or 0), float(submission.max_score or 0))
             for notebook in submission.notebooks:
-                bonus = is_bonus(notebook.name)
+                bonus = is_bonus(assignment, notebook.name)
                 entry.autograded_by_notebook[notebook.name] = 0.0
                 comments = {c.name: (c.manual_comment or "").strip() for c in notebook.comments}
                 for grade in notebook.grades:

@@ -27,7 +27,6 @@ import csv
 from dataclasses import dataclass
 from pathlib import Path
 
-from grader.contract import is_bonus
 from grader.spreadsheet import csv_text, read_csv
 
 CANVAS_IDENTITY = ("Student", "ID", "SIS User ID", "SIS Login ID", "Section")
@@ -81,7 +80,7 @@ def totals(grades_csv: Path, gradebook: dict | None = None) -> list[Total]:
         t = by_student.setdefault(row["student_id"], Total(row["student_id"], 0.0, 0.0))
         t.autograded += float(row["score"])
         recorded.setdefault(row["student_id"], {})[row["notebook"]] = float(row["score"])
-        if not is_bonus(row["notebook"]):
+        if row.get("bonus") != "true":  # grades.csv says which notebooks are extra credit
             t.max_score += float(row["max_score"])
         t.late_penalty += float(row.get("late_penalty") or 0)
         t.seconds_late = max(t.seconds_late, float(row.get("seconds_late") or 0))

@@ -21,7 +21,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from grader.contract import is_bonus
+from grader.course_pack import is_bonus
 from grader.exports.gradebook import HandGrade
 from grader.pipeline.record import write_text_atomic
 
@@ -123,7 +123,7 @@ def export_feedback(out: Path, submitted: Path, feedback_root: Path, assignment:
             if held is None:
                 shutil.copyfile(page, target / page.name)
             else:
-                text = with_hand_grades(page.read_text(encoding="utf-8"), held.by_notebook(page.stem), is_bonus(page.stem))
+                text = with_hand_grades(page.read_text(encoding="utf-8"), held.by_notebook(page.stem), is_bonus(assignment, page.stem))
                 write_text_atomic(target / page.name, text)
             written.append(target / page.name)
         origin = Path(submitted) / student / assignment

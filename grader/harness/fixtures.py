@@ -35,7 +35,7 @@ class Case:
     label : str
         Shown in feedback, e.g. ``"planar point set"``.
     steps : list of Step
-        Usually one call; ARAP's global step is ``[arap_precompute(...), arap_global_step(Ref(0), ...)]``.
+        Usually one call; a step that uses a precomputation is ``[precompute(...), step(Ref(0), ...)]``.
     context : dict
         Grader-side data for verification and pictures; never sent to the kernel.
     """

@@ -19,11 +19,10 @@ from pathlib import Path
 import nbformat
 import numpy as np
 
-from grader.contract import is_bonus
+from grader.course_pack import is_bonus, pack
 from grader.pipeline import feedback_view
 from grader.pipeline.verify import graded_cells, hidden_cases
 
-PICTURED = ("arap_solve", "laplacian_editing", "bbw", "unconstrained_biharmonic_weights")
 TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
 
 
@@ -61,7 +60,7 @@ def _draw_mesh(ax, V: np.ndarray, F: np.ndarray, values: np.ndarray | None = Non
     ax.set_axis_off()
 
 
-def _pair_figure(V_got, V_ref, F, values_got=None, values_ref=None, titles=("yours", "reference"), label=""):
+def pair_figure(V_got, V_ref, F, values_got=None, values_ref=None, titles=("yours", "reference"), label=""):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -74,72 +73,36 @@ def _pair_figure(V_got, V_ref, F, values_got=None, values_ref=None, titles=("you
     return fig
 
 
-def _picture(caption: str, alt: str, fig) -> dict:
+def picture(caption: str, alt: str, fig) -> dict:
     return {"caption": caption, "alt": alt, "png": _png(fig)}
 
 
-def _with_view(function: str, case, value, ref, pics: list[dict]) -> list[dict]:
-    """``pics`` with the interactive view of the same case beside the first (grader/pipeline/feedback_view.py)."""
-    pics[0]["view"] = feedback_view.view_for(function, case, value, ref)
-    return pics
+def _pictures(assignment: str | None, function: str, seed: int, collected, result=None) -> list[dict]:
+    """Pictures (caption, alt text, base64 PNG, maybe an interactive view) of one hidden case of a function
+    the course pack pictures, a failed case first when ``result`` (its FunctionResult) says which failed.
 
-
-def _pictures(function: str, seed: int, collected, result=None) -> list[dict]:
-    """Pictures (caption, alt text, base64 PNG) of the first readable hidden case of a pictured function,
-    a failed one first when ``result`` (its FunctionResult) says which failed."""
-    if function not in PICTURED or collected is None:
+    The pack's ``pictures`` module declares ``PICTURED`` (function names) and
+    ``pictures(function, case, value, expected)``, which draws with :func:`pair_figure`,
+    :func:`picture` and ``grader.pipeline.feedback_view``; a case it cannot draw is skipped.
+    """
+    drawer = pack(assignment).pictures_module()
+    if drawer is None or function not in getattr(drawer, "PICTURED", ()) or collected is None:
         return []
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    cases, expected = hidden_cases(function, seed)
+    cases, expected = hidden_cases(function, seed, assignment)
     failed = [not c.passed for c in result.cases] if result is not None and len(result.cases) == len(cases) else [False] * len(cases)
     # A picture of a passing case (the same as the reference's to 1e-15) shows the student nothing.
     for _, case, out, ref in sorted(zip(failed, cases, collected.cases, expected), key=lambda row: not row[0]):
         if out.error is not None:
             continue
         try:
-            V, F = np.asarray(case.steps[0].args[0], float), np.asarray(case.steps[0].args[1], int)
-            if function == "arap_solve":
-                U, energies = np.asarray(out.value[0], float), np.asarray(out.value[1], float).ravel()
-                pics = [_picture(
-                    f"{function}, {case.label}: your deformed mesh (left) beside the reference's (right).",
-                    f"Two meshes side by side: the deformation computed by your {function} and the reference's, on hidden case {case.label}.",
-                    _pair_figure(U, np.asarray(ref[0]), F, titles=("your arap_solve", "reference")),
-                )]
-                fig, ax = plt.subplots(figsize=(7, 4))
-                ax.semilogy(np.arange(1, len(energies) + 1), np.maximum(energies, 1e-300), "o-", label="yours")
-                ax.semilogy(np.arange(1, len(ref[1]) + 1), np.maximum(np.asarray(ref[1], float), 1e-300), "s--", label="reference")
-                ax.set_xlabel("iteration")
-                ax.set_ylabel("ARAP energy (log scale)")
-                ax.set_title(f"ARAP energy per iteration, {case.label}")
-                ax.grid(True, which="both", alpha=0.3)
-                ax.legend()
-                pics.append(_picture(
-                    f"{function}, {case.label}: energy after each iteration, yours (circles) and the reference's (squares). "
-                    "Local-global iterations never increase the energy.",
-                    f"Line plot of the ARAP energy per iteration: {len(energies)} values of yours, {len(ref[1])} of the reference.",
-                    fig,
-                ))
-                return _with_view(function, case, out.value, ref, pics)
-            if function == "laplacian_editing":
-                return _with_view(function, case, out.value, ref, [_picture(
-                    f"{function}, {case.label}: your edited mesh (left) beside the reference's (right).",
-                    f"Two meshes side by side: the result of your {function} and the reference's, on hidden case {case.label}.",
-                    _pair_figure(np.asarray(out.value, float), np.asarray(ref), F, titles=("your laplacian_editing", "reference")),
-                )])
-            W, W_ref = np.asarray(out.value, float), np.asarray(ref, float)
-            if V.shape[1] == 2 and W.shape == W_ref.shape:
-                return _with_view(function, case, out.value, ref, [_picture(
-                    f"{function}, {case.label}: weight of handle 1 on every vertex, yours (left) beside the reference's (right); "
-                    "blue is 0, red is 1, darker colours lie outside [0, 1].",
-                    f"Two colour maps of the weight of handle 1 over the mesh: yours and the reference's, on hidden case {case.label}.",
-                    _pair_figure(V, V, F, W[:, 0], W_ref[:, 0], titles=(f"your {function}", "reference"), label="weight of handle 1"),
-                )])
+            pics = drawer.pictures(function, case, out.value, ref)
         except Exception:  # noqa: BLE001 - a picture of malformed output is not worth failing feedback for
             continue
+        if pics:
+            return pics
     return []
 
 
@@ -186,14 +149,14 @@ def feedback_html(spec, results: list, notes: list[str]) -> str:
         }
         for cell, r, _ in results
     ]
-    pictures = [p for cell, r, collected in results for p in _pictures(cell.function, spec.seed, collected, r)]
+    pictures = [p for cell, r, collected in results for p in _pictures(spec.assignment, cell.function, spec.seed, collected, r)]
     return template("feedback.html.j2").render(
         student_id=spec.student_id,
         notebook=spec.notebook,
         seed=spec.seed,
         score=sum(f["score"] for f in functions),
         max_score=max_score,
-        bonus=is_bonus(spec.notebook),
+        bonus=is_bonus(pack(spec.assignment).name, spec.notebook),
         manual_points=sum(points for _, points in manual),
         manual_cells=[gid for gid, _ in manual],
         # A missing or unreadable notebook has no written answers for a TA to read.

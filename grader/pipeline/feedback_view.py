@@ -74,39 +74,6 @@ def page_context(pictures: list[dict]) -> dict:
     return {"csp": csp(), "viewer_js": Markup(VIEWER_JS) if any("data" in v for v in views) else ""}
 
 
-def view_for(function: str, case, value, expected) -> dict | None:
-    """The view of one hidden case of a pictured function, from the same data as its picture.
-
-    Parameters
-    ----------
-    function : str
-        ``arap_solve``, ``laplacian_editing``, ``bbw`` or ``unconstrained_biharmonic_weights``.
-    case : Case
-        The hidden case (grader-side data: the mesh and handles are the first step's arguments).
-    value : Any
-        The student's collected output on it (hostile: validated here).
-    expected : Any
-        The reference's output.
-
-    Returns
-    -------
-    dict or None
-        See :func:`deformation_view`; None for a function without a view.
-    """
-    args = case.steps[0].args
-    V, F = np.asarray(args[0], float), np.asarray(args[1], np.int64)
-    if function == "arap_solve":
-        got = value[0] if isinstance(value, tuple) and len(value) == 2 else None
-        return deformation_view(V, F, np.asarray(args[2], np.int64), got, np.asarray(expected[0], float))
-    if function == "laplacian_editing":
-        return deformation_view(V, F, np.asarray(args[2], np.int64), value, np.asarray(expected, float))
-    if function in ("bbw", "unconstrained_biharmonic_weights"):
-        b, bc = np.asarray(args[2], np.int64), np.asarray(args[3], float)
-        groups = [b[np.argmax(bc, axis=1) == j] for j in range(bc.shape[1])]
-        return weights_view(V, F, groups, value, np.asarray(expected, float))
-    return None
-
-
 def _too_large(V: np.ndarray, F: np.ndarray) -> dict | None:
     if len(V) <= VERTEX_BUDGET and len(F) <= FACE_BUDGET:
         return None

@@ -14,7 +14,7 @@ import time
 import warnings
 from pathlib import Path
 
-from grader.contract import is_bonus
+from grader.course_pack import is_bonus
 from grader.spreadsheet import csv_text
 
 #: ``bonus`` is ``true`` on the rows of bonus notebooks (BONUS_CONTRACT.md): their
@@ -158,13 +158,13 @@ def write_autograded(autograded: Path, result: dict) -> None:
         source = Path(autograded).parent / "source" / result["assignment"] / f"{result['notebook']}.ipynb"
         write_text_atomic(
             Path(autograded) / safe_name(result["student_id"]) / result["assignment"] / f"{result['notebook']}.ipynb",
-            with_verdicts(result["autograded_notebook"], result.get("tests", []), model_answers(source), is_bonus(result["notebook"])),
+            with_verdicts(result["autograded_notebook"], result.get("tests", []), model_answers(source), is_bonus(result["assignment"], result["notebook"])),
         )
 
 
 def write_grades_csv(out: Path, results: list[dict]) -> Path:
     """``grades.csv``: one row per student × notebook, sorted."""
-    rows = ([r["student_id"], r["assignment"], r["notebook"], f"{r['score']:g}", f"{r['max_score']:g}", str(is_bonus(r["notebook"])).lower()]
+    rows = ([r["student_id"], r["assignment"], r["notebook"], f"{r['score']:g}", f"{r['max_score']:g}", str(is_bonus(r["assignment"], r["notebook"])).lower()]
             for r in sorted(results, key=lambda r: (r["student_id"], r["notebook"])))
     path = Path(out) / "grades.csv"
     write_text_atomic(path, csv_text(CSV_HEADER, rows))
@@ -233,7 +233,7 @@ def _record_gradebook_once(gb, result: dict) -> None:
         warnings.filterwarnings("ignore", message=".*not in session.*")
         gb.update_or_create_submission(assignment, sid)
     scores = {t["grade_id"]: t["score"] for t in result["tests"]}
-    bonus = is_bonus(notebook)
+    bonus = is_bonus(assignment, notebook)
     if bonus:
         bonus_as_extra_credit(gb, assignment, notebook)
     submitted = gb.find_submission_notebook(notebook, assignment, sid)

@@ -8,6 +8,8 @@ result as it arrives, in this one process (``grader.pipeline.record``).
 
 from __future__ import annotations
 
+import dataclasses
+
 import fcntl
 import json
 import multiprocessing
@@ -23,11 +25,11 @@ from pathlib import Path
 
 import nbformat
 
-from grader.contract import ASSIGNMENT
+from grader.course_pack import default_assignment, pack
 from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
 from grader.pipeline.sanitize import read_submission_bytes
-from grader.pipeline.submitted import student_folders
+from grader.pipeline.submitted import check_submitted, student_folders
 from grader.pipeline.unit import UnitSpec, grade_unit, load_submission, prestart_kernels, zero_result
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES, remove_stale_limits
@@ -42,7 +44,7 @@ class GradeOptions:
     max_processes: int = DEFAULT_MAX_PROCESSES
     db_url: str | None = None
     seed: int | None = None
-    assignment: str = ASSIGNMENT
+    assignment: str | None = None  # None: the course's default assignment (c.DeformLab.default_assignment)
     progress: bool = True
     autograded: Path | None = None  # where executed notebooks go for formgrader; default: the course's autograded/
     wall: float = 900.0  # seconds per notebook
@@ -88,7 +90,7 @@ def ensure_sources(paths: CoursePaths, assignment: str) -> list[Path]:
     if not sources:
         from grader.build.source_notebook import build_sources
 
-        sources = build_sources(paths.notebooks, paths.source, assignment)
+        sources = build_sources(paths.source, assignment)
     return sources
 
 
@@ -114,11 +116,11 @@ def ensure_gradebook(paths: CoursePaths, db_url: str, assignment: str) -> None:
         fcntl.flock(lock, fcntl.LOCK_EX)
         if known():
             return
-        from grader.build.release import ReleaseError, generate_assignment
+        from grader.gradebook import GradebookError, generate_assignment
 
         try:
             generate_assignment(paths, assignment, db_url)
-        except ReleaseError:
+        except GradebookError:
             if not known():
                 raise
 
@@ -147,7 +149,8 @@ def plan_units(submitted: Path, sources: list[Path], options: GradeOptions, rost
 
     A student folder that is a link is not followed (its student gets a row saying so).
     """
-    folders = student_folders(submitted, options.assignment)
+    assignment = options.assignment or default_assignment()
+    folders = student_folders(submitted, assignment)
     units = []
     for sid in sorted(set(folders) | set(roster)):
         folder = folders.get(sid)
@@ -160,7 +163,7 @@ def plan_units(submitted: Path, sources: list[Path], options: GradeOptions, rost
                 notes = ["the submission folder is a link, which is not followed"]
             else:
                 try:
-                    path, notes = find_submission(folder / options.assignment, notebook)
+                    path, notes = find_submission(folder / assignment, notebook)
                 except OSError as exc:  # an unreadable folder costs its own student only
                     notes = [f"cannot read the submission folder: {exc.strerror}"]
             units.append(PlannedUnit(sid, notebook, path, source, tuple(notes), folder is not None))
@@ -254,6 +257,11 @@ def grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Course
     submitted, out = Path(submitted), Path(out)
     if not submitted.is_dir():
         raise FileNotFoundError(f"SUBMITTED must be a folder of student folders: {submitted} is not a folder")
+    if options.assignment is None:
+        options = dataclasses.replace(options, assignment=default_assignment())
+    # planned before anything is built or written: a wrong folder or assignment is refused at once
+    pack(options.assignment)
+    check_submitted(submitted, options.assignment)
     if options.scheduler:
         from grader.pipeline.distributed import parse_scheduler
 
@@ -305,6 +313,11 @@ def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Cours
     def error_of(unit: PlannedUnit, reason: str) -> dict:
         return _grader_error(spec_of(unit), reason)
 
+    if options.assignment is None:
+        options = dataclasses.replace(options, assignment=default_assignment())
+    # planned before anything is built or written: a wrong folder or assignment is refused at once
+    pack(options.assignment)
+    check_submitted(submitted, options.assignment)
     if options.scheduler:
         from grader.pipeline.distributed import grade_on_dask
 

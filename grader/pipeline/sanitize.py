@@ -24,7 +24,6 @@ from pathlib import Path
 
 import nbformat
 
-from grader.contract import CONTRACT_NAMES
 
 #: A submission larger than this is not read at all.
 MAX_NOTEBOOK_BYTES = 64 * 2**20
@@ -143,8 +142,22 @@ def parse_submission(data: bytes) -> nbformat.NotebookNode:
     return nb
 
 
-def _calls_contract_at_top_level(source: str) -> bool:
-    """Whether a cell uses a contract function outside function bodies (a demo or an experiment)."""
+def graded_functions(source: nbformat.NotebookNode) -> frozenset[str]:
+    """Every graded function of the source notebook's assignment, as its build wrote them in its metadata.
+
+    A source notebook built without them: the functions of its own graded tests cells.
+    """
+    listed = (source.metadata.get("deformlab") or {}).get("functions")
+    if isinstance(listed, list) and all(isinstance(n, str) for n in listed):
+        return frozenset(listed)
+    return frozenset(
+        gid[len("test_"):] for cell in source.cells
+        if (gid := (cell.metadata.get("nbgrader") or {}).get("grade_id", "")).startswith("test_")
+    )
+
+
+def _calls_contract_at_top_level(source: str, names: frozenset[str]) -> bool:
+    """Whether a cell uses one of the graded functions ``names`` outside function bodies (a demo or an experiment)."""
     try:
         tree = ast.parse(source)
     except SyntaxError:
@@ -154,13 +167,13 @@ def _calls_contract_at_top_level(source: str) -> bool:
         return any(
             re.match(rf"^(?!def |class |@|#)[^\n]*\b{name}\s*\(", line)
             for line in source.splitlines()
-            for name in CONTRACT_NAMES
+            for name in names
         )
     # Function and class bodies (with their decorators and defaults) are not walked into.
     stack: list[ast.AST] = [tree]
     while stack:
         node = stack.pop()
-        if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load) and node.id in CONTRACT_NAMES:
+        if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load) and node.id in names:
             return True
         stack.extend(n for n in ast.iter_child_nodes(node) if not isinstance(n, _SCOPES))
     return False
@@ -169,13 +182,15 @@ def _calls_contract_at_top_level(source: str) -> bool:
 _SCOPES = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)
 
 
-def grading_plan(nb: nbformat.NotebookNode) -> list[int]:
+def grading_plan(nb: nbformat.NotebookNode, names: frozenset[str] | None = None) -> list[int]:
     """Code cells to execute when grading.
 
     Solution cells always run. Tests cells never run (the trusted checks replace
-    them). Other cells run unless they use a contract function at top level:
-    those are pictures and experiments, whose results nobody grades.
+    them). Other cells run unless they use a graded function (``names``, default:
+    :func:`graded_functions` of ``nb``) at top level: those are pictures and
+    experiments, whose results nobody grades.
     """
+    names = graded_functions(nb) if names is None else names
     plan = []
     for i, cell in enumerate(nb.cells):
         if cell.cell_type != "code":
@@ -185,7 +200,7 @@ def grading_plan(nb: nbformat.NotebookNode) -> list[int]:
             plan.append(i)
         elif meta.get("grade"):
             continue
-        elif not _calls_contract_at_top_level(cell.source):
+        elif not _calls_contract_at_top_level(cell.source, names):
             plan.append(i)
     return plan
 
@@ -247,7 +262,7 @@ def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> S
                 cid += "x"
         used_ids.add(cid)
         nb.cells.append(_rebuilt(cell, by_grade_id.get(_grade_id(cell)), cid))
-    return Sanitized(nb=nb, plan=grading_plan(nb), notes=notes)
+    return Sanitized(nb=nb, plan=grading_plan(nb, graded_functions(source)), notes=notes)
 
 
 # nbformat's own rule for cell ids.

@@ -18,7 +18,28 @@ def student_folders(submitted: Path, assignment: str) -> dict[str, Path]:
     ValueError
         If no sub-folder holds ``<assignment>/``: ``submitted`` is most likely the wrong folder.
     """
-    submitted = Path(submitted)
+    found, skipped = _scan(Path(submitted), assignment)
+    if skipped:
+        print(
+            f"warning: skipped {len(skipped)} folder(s) of {submitted} without a {assignment}/ sub-folder: "
+            + ", ".join(skipped[:10]) + (", ..." if len(skipped) > 10 else ""),
+            file=sys.stderr,
+        )
+    return found
+
+
+def check_submitted(submitted: Path, assignment: str) -> None:
+    """Refuse a ``submitted`` folder that holds no student folder of ``assignment``, before anything is built.
+
+    Raises
+    ------
+    ValueError
+        Naming the folder and its sub-folders.
+    """
+    _scan(Path(submitted), assignment)
+
+
+def _scan(submitted: Path, assignment: str) -> tuple[dict[str, Path], list[str]]:
     found, skipped = {}, []
     for path in sorted(submitted.iterdir()):
         if not path.is_dir() or path.name.startswith("."):
@@ -33,10 +54,4 @@ def student_folders(submitted: Path, assignment: str) -> dict[str, Path]:
             f"one folder per student with the notebooks in <student>/{assignment}/"
             + (f" (its sub-folders: {', '.join(skipped[:5])}{', ...' if len(skipped) > 5 else ''})" if skipped else "")
         )
-    if skipped:
-        print(
-            f"warning: skipped {len(skipped)} folder(s) of {submitted} without a {assignment}/ sub-folder: "
-            + ", ".join(skipped[:10]) + (", ..." if len(skipped) > 10 else ""),
-            file=sys.stderr,
-        )
-    return found
+    return found, skipped

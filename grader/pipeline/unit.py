@@ -53,7 +53,7 @@ class UnitSpec:
     student_id : str
         Exactly as the submission folder is named.
     notebook : str
-        File stem of the assignment's notebook, e.g. ``03_arap``.
+        File stem of the assignment's notebook, its stage (``NN_name``).
     submission : bytes or None
         The submitted file's content; None if the student submitted none or
         ``submission_error`` says why it was not read.
@@ -76,7 +76,7 @@ class UnitSpec:
     submission: bytes | None
     source: str
     seed: int
-    assignment: str = "deformation"
+    assignment: str | None = None  # None: the course's default assignment
     timeout: float = 60.0
     memory_bytes: int = 4 * 2**30
     max_processes: int | None = DEFAULT_MAX_PROCESSES
@@ -312,8 +312,8 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
     broken: dict[str, str] = {}  # functions whose hidden cases the reference itself failed on
     for cell in cells:
         try:
-            write_fixtures(cell.function, hidden_cases(cell.function, spec.seed)[0], fixtures,
-                           recording(cell.function, spec.seed))
+            write_fixtures(cell.function, hidden_cases(cell.function, spec.seed, spec.assignment)[0], fixtures,
+                           recording(cell.function, spec.seed, spec.assignment))
         except Exception as exc:  # noqa: BLE001 - costs this function, not the notebook
             broken[cell.function] = f"grader error preparing hidden cases: {type(exc).__name__}: {exc}"
     (workdir / f"{spec.notebook}.ipynb").write_text(_notebook_json(sanitized.nb), encoding="utf-8")
@@ -336,14 +336,14 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
             tests.append({"grade_id": cell.grade_id, "function": cell.function, "points": cell.points,
                           "score": 0.0, "summary": broken[cell.function], "cases": []})
             continue
-        result, collected = _verified(cell.function, spec.seed, outputs, run.collection_failures.get(cell.function))
+        result, collected = _verified(cell.function, spec.seed, outputs, run.collection_failures.get(cell.function), spec.assignment)
         if cell.function in failed_defs and result.cases and all(
                 (c.error or "").startswith(f"NameError: {cell.function} is not defined") for c in result.cases):
             # Its defining cell failed (a syntax error, say): say so, not "NameError".
             i = failed_defs[cell.function]
             result = verify(cell.function, spec.seed, None,
                             f"{cell.function} was never defined: {_cell_name(sanitized.nb.cells[i])} failed with "
-                            f"{run.cell_failures[i]}")
+                            f"{run.cell_failures[i]}", spec.assignment)
             collected = None
         # Pictures only where a case failed: a passing function's picture tells its student
         # nothing new, and drawing it cost as much CPU as the rest of the unit.
@@ -423,7 +423,7 @@ def _notebook_json(nb: nbformat.NotebookNode) -> str:
     return json.dumps(nb, ensure_ascii=False)
 
 
-def _verified(function: str, seed: int, outputs: Path, failure: str | None):
+def _verified(function: str, seed: int, outputs: Path, failure: str | None, assignment: str | None = None):
     """Read one function's outputs and judge them, under the grader's own limits.
 
     Returns
@@ -434,15 +434,15 @@ def _verified(function: str, seed: int, outputs: Path, failure: str | None):
     try:
         with grader_limits():
             if failure is None:
-                cases, expected = hidden_cases(function, seed)
+                cases, expected = hidden_cases(function, seed, assignment)
                 try:
                     collected = read_outputs(function, outputs, len(cases), expected)
                 except OutputError as exc:
                     failure = str(exc)
-            return verify(function, seed, collected, failure), collected
+            return verify(function, seed, collected, failure, assignment), collected
     except (GraderLimitExceeded, MemoryError) as exc:
         why = "took too long" if isinstance(exc, GraderLimitExceeded) else "needed too much memory"
-        return verify(function, seed, None, f"checking these outputs {why} (the grader's own limits); they score 0"), None
+        return verify(function, seed, None, f"checking these outputs {why} (the grader's own limits); they score 0", assignment), None
 
 
 def _wrong_output_digest(case, collected, k: int) -> str | None:

@@ -43,21 +43,21 @@ def _seed(function: str, seed: int) -> tuple[int, int]:
     return (seed, zlib.crc32(function.encode()))
 
 
-def recording(function: str, seed: int) -> dict:
+def recording(function: str, seed: int, assignment: str | None = None) -> dict:
     """What the collector records of the course functions ``function`` calls (``grader.checks.record_plan``)."""
-    return record_plan(function, _seed(function, seed))
+    return record_plan(function, _seed(function, seed), assignment)
 
 
-def hidden_cases(function: str, seed: int) -> tuple[list[Case], list[Any]]:
+def hidden_cases(function: str, seed: int, assignment: str | None = None) -> tuple[list[Case], list[Any]]:
     """The hidden cases of ``function`` for a run's ``seed`` and the reference's outputs on them.
 
     The function's name is mixed into the seed so that functions drawing the
     same kinds of input still get different ones.
     """
-    return seeded_cases(function, _seed(function, seed))
+    return seeded_cases(function, _seed(function, seed), assignment)
 
 
-def verify(function: str, seed: int, collected: Collected | None, failure: str | None) -> FunctionResult:
+def verify(function: str, seed: int, collected: Collected | None, failure: str | None, assignment: str | None = None) -> FunctionResult:
     """Verdicts for one function from what its collection produced.
 
     Parameters
@@ -65,11 +65,11 @@ def verify(function: str, seed: int, collected: Collected | None, failure: str |
     collected : Collected or None
         The outputs read back, or None when collection failed (then ``failure`` says why).
     """
-    cases, expected = hidden_cases(function, seed)
+    cases, expected = hidden_cases(function, seed, assignment)
     if collected is None:
         return FunctionResult(function, error=failure or "no outputs")
     if len(collected.cases) != len(cases):
         raise OutputError(f"{function}: {len(collected.cases)} outputs for {len(cases)} cases")
-    result = evaluate(all_checks()[function], cases, collected.cases, expected, _seed(function, seed))
+    result = evaluate(all_checks(assignment)[function], cases, collected.cases, expected, _seed(function, seed))
     # the library-call policy (starter/library_policy.py): a forbidden routine scores the function 0
     return charge_policy(result, collected.policy_violations)

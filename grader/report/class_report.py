@@ -16,9 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from grader.contract import is_bonus
-from grader.report.scores import late_students
-from starter.library_policy import OWN as POLICY
+from grader.course_pack import is_bonus
+from grader.report.scores import late_students, policy_violations
 from grader.pipeline import record
 from grader.spreadsheet import csv_text, read_csv
 from grader.pipeline.feedback import _png, template
@@ -82,7 +81,7 @@ def summarize(results: list[dict], top_cases: int = 20) -> ClassReport:
         execution = [r["execution_s"] for r in units if r.get("execution_s") is not None]
         rss = [r["peak_rss_bytes"] / 2**20 for r in units if r.get("peak_rss_bytes")]
         report.notebooks.append({
-            "notebook": nb, "bonus": is_bonus(nb), "students": len(units), "max_score": top,
+            "notebook": nb, "bonus": is_bonus(units[0].get("assignment"), nb), "students": len(units), "max_score": top,
             "mean": round(statistics.fmean(scores), 3), "median": statistics.median(scores),
             "full_marks": sum(s >= top > 0 for s in scores), "zero": sum(s == 0 for s in scores),
             "graded": sum(status[s] for s in GRADED), "missing": status["missing"], "invalid": status["invalid"],
@@ -131,26 +130,6 @@ def summarize(results: list[dict], top_cases: int = 20) -> ClassReport:
                 "what": "; ".join(str(x) for x in (r.get("events") or []) + (r.get("reasons") or []))[:600],
             })
     return report
-
-
-def policy_violations(results: list[dict]) -> list[dict]:
-    """Per function and library routine the course's policy forbids there: the students whose function called it.
-
-    Only the policy's own routine names are counted (``starter/library_policy.py``).
-    """
-    from starter.library_policy import forbidden
-
-    found: dict[tuple, set] = defaultdict(set)
-    for r in results:
-        for t in r.get("tests", []):
-            allowed = set(forbidden(t["function"])) if t.get("function") in POLICY else set()
-            for routine in t.get("policy_violations") or []:
-                if routine in allowed:
-                    found[(r["notebook"], t["function"], routine)].add(r["student_id"])
-    return [
-        {"notebook": nb, "function": fn, "routine": routine, "students": len(ids), "student_ids": " ".join(sorted(ids))}
-        for (nb, fn, routine), ids in sorted(found.items())
-    ]
 
 
 def _figures(report: ClassReport, results: list[dict]) -> list[dict]:

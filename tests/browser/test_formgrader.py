@@ -22,6 +22,7 @@ from pathlib import Path
 
 import nbformat
 import pytest
+from tests.course_copy import copy_course_config
 
 from grader.corpus import build_submission, load_entry, student_id, student_notebook
 from grader.paths import CoursePaths
@@ -75,7 +76,7 @@ def course(workdir, source_notebooks):
     (paths.source / "deformation").mkdir(parents=True)
     for name in ("data", "starter", "notebooks"):
         (paths.root / name).symlink_to(ROOT / name)
-    shutil.copy(ROOT / "assignments" / "nbgrader_config.py", paths.course)
+    copy_course_config(paths.course)
     shutil.copy(source_notebooks[NOTEBOOK], paths.source / "deformation")
     submitted = workdir / "submitted"
     source = paths.source / "deformation"
@@ -184,7 +185,7 @@ def test_opening_an_attackers_submission_in_formgrader_runs_none_of_its_scripts(
     started = time.monotonic()
     log_in(browser, formgrader)
     before = gradebook(course.db_url)
-    source = nbformat.read(course.paths.source_notebooks()[0], as_version=4)
+    source = nbformat.read(course.paths.source_notebooks("deformation")[0], as_version=4)
     source_points = [float(c.metadata.nbgrader["points"]) for c in source.cells if (c.metadata.get("nbgrader") or {}).get("grade")]
     attackers = [student_id(load_entry(HOSTILE / f"{name}.py")) for name in ATTACKS]
     lines = []
@@ -200,7 +201,7 @@ def test_opening_an_attackers_submission_in_formgrader_runs_none_of_its_scripts(
     monkeypatch.setattr(unit, "neutralize", lambda nb, source: [])
     monkeypatch.setenv("DEFORMLAB_ROOT", str(course.paths.root))
     options = GradeOptions(timeout=10)
-    planned = {u.student_id: u for u in plan_units(course.submitted, course.paths.source_notebooks(), options, [])}
+    planned = {u.student_id: u for u in plan_units(course.submitted, course.paths.source_notebooks("deformation"), options, [])}
     # Forged cell metadata never reaches the executed notebook: sanitize rebuilds every cell's metadata from
     # the source before execution, so without neutralize too that attack stays inert; the control skips it.
     controlled = [sid for sid in attackers if sid != student_id(load_entry(HOSTILE / "cell_metadata_injects_html.py"))]
@@ -249,7 +250,7 @@ def test_each_tests_cell_shows_its_verdicts_in_formgrader_as_text(course, formgr
 
 def test_each_written_answer_is_followed_by_the_model_answer_and_a_rubric_for_the_ta(course, formgrader, browser):
     log_in(browser, formgrader)
-    source = nbformat.read(course.paths.source_notebooks()[0], as_version=4)
+    source = nbformat.read(course.paths.source_notebooks("deformation")[0], as_version=4)
     answers = [(c.metadata.nbgrader["grade_id"], c.metadata.nbgrader["points"]) for c in source.cells
                if c.cell_type == "markdown" and (c.metadata.get("nbgrader") or {}).get("grade")]
     page = browser.new_page()

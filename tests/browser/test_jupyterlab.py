@@ -70,7 +70,8 @@ def fill(root: Path, workdir: Path) -> None:
     """Write what JupyterLab serves into ``root``: the release 05_lbs filled with the reference, and the demo."""
     from benchmarks.bench_grading import student_version
     from grader.build.authored import read_authored
-    from grader.build.release import demo_notebook, generate_assignment
+    from grader.build.release import demo_notebook
+    from grader.gradebook import generate_assignment
     from grader.build.source_notebook import build_source_notebook
     from grader.paths import CoursePaths
 
@@ -83,7 +84,7 @@ def fill(root: Path, workdir: Path) -> None:
     generate_assignment(course, "deformation", f"sqlite:///{workdir}/gradebook.db")
     released = course.release / "deformation" / source.name
     nbformat.write(student_version(source, released), root / source.name)
-    nbformat.write(demo_notebook(course), root / f"{DEMO}.ipynb")
+    nbformat.write(demo_notebook(course, DEMO), root / f"{DEMO}.ipynb")
 
 
 @pytest.fixture(scope="module")

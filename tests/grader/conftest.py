@@ -9,6 +9,7 @@ import time
 from pathlib import Path
 
 import pytest
+from tests.course_copy import copy_course_config
 
 
 @pytest.fixture
@@ -92,7 +93,7 @@ def make_course(source_notebooks):
             (root / name).symlink_to(checkout / name)
         for path in source_notebooks.values():
             shutil.copy(path, source / path.name)
-        shutil.copy(checkout / "assignments" / "nbgrader_config.py", root / "assignments")
+        copy_course_config(root / "assignments")
         return root
 
     return make

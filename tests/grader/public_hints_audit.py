@@ -24,7 +24,10 @@ from pathlib import Path
 from grader.build.authored import read_authored
 from grader.build.source_notebook import with_policy_check
 from grader.corpus import load_entry
+from grader.course_pack import pack
 from grader.pipeline.sanitize import _calls_contract_at_top_level
+
+CONTRACT_NAMES = pack("deformation").function_names
 
 ROOT = Path(__file__).resolve().parents[2]
 NOTEBOOKS = ROOT / "notebooks" / "deformation"
@@ -128,7 +131,7 @@ def public_failures(notebook: str, solutions: dict[str, str], functions: set[str
     namespace: dict = {}
     found: dict[str, str] = {}
     for cell in read_authored(NOTEBOOKS / f"{notebook}.py").cells:
-        if cell.kind == "provided" and not _calls_contract_at_top_level(cell.source):
+        if cell.kind == "provided" and not _calls_contract_at_top_level(cell.source, CONTRACT_NAMES):
             exec(compile(cell.source, notebook, "exec"), namespace)
         elif cell.kind == "solution":
             exec(compile(solutions.get(cell.function, cell.source), notebook, "exec"), namespace)

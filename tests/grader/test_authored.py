@@ -2,6 +2,7 @@
 
 import pytest
 
+from grader.course_pack import pack
 from grader.build.authored import AuthoringError, read_authored, solution_body
 from grader.build.source_notebook import build_source_notebook
 
@@ -126,8 +127,31 @@ def test_the_library_policy_follows_the_first_text_and_every_tests_cell_checks_i
 def test_each_notebook_says_how_a_bug_is_charged_and_which_copied_functions_earn_nothing():
     from grader.build.source_notebook import grading_rules
 
-    arap = grading_rules("03_arap", ["optimal_rotation", "cotangent_weights", "arap_precompute", "arap_global_step"])
+    arap = grading_rules(pack("deformation"), "03_arap", ["optimal_rotation", "cotangent_weights", "arap_precompute", "arap_global_step"])
     assert "A bug is charged once." in arap
     assert "(`optimal_rotation`) earn no points here" in arap
     assert "`arap_precompute` returns is your own design: it is checked through your own `arap_global_step`" in arap
-    assert "earn no points here" not in grading_rules("00_meshes", ["edges", "genus"])
+    assert "earn no points here" not in grading_rules(pack("deformation"), "00_meshes", ["edges", "genus"])
+
+
+def test_an_error_names_the_file_and_the_line_the_instructor_edits(tmp_path):
+    broken = CENTROID.replace("return np.mean(P, axis=0)", "return np.mean(P, axis=0")
+    path = write(tmp_path, broken + CENTROID_TESTS)
+    with pytest.raises(AuthoringError) as caught:
+        read_authored(path)
+    lines = path.read_text().splitlines()
+    first = lines.index("def centroid(P, w=None):") + 1
+    assert str(caught.value).startswith(f"{path}:{first} (cell 3): syntax error")
+    assert "line 4 of the cell" in str(caught.value)  # the unclosed call, on the file's line first + 3
+
+
+def test_an_error_in_a_later_cell_names_that_cells_line(tmp_path):
+    early = '''
+# %%
+_early = centroid(np.ones((2, 2)))
+'''
+    path = write(tmp_path, early + CENTROID + CENTROID_TESTS)
+    with pytest.raises(AuthoringError, match="uses centroid before its solution cell") as caught:
+        read_authored(path)
+    line = path.read_text().splitlines().index("_early = centroid(np.ones((2, 2)))") + 1
+    assert str(caught.value).startswith(f"{path}:{line} (cell 3)")

@@ -21,7 +21,10 @@ from hypothesis.extra.numpy import arrays
 import grader.harness.kernel_side as kernel_side
 from grader.checks import callees, seeded_cases
 from grader.checks.base import run_steps
-from grader.contract import CONTRACT_NAMES, reference_function
+from grader.course_pack import pack
+_COURSE = pack("deformation")
+CONTRACT_NAMES = _COURSE.function_names
+reference_function = _COURSE.reference_function
 from grader.harness.fixtures import write_fixtures
 from grader.harness.outputs import read_outputs
 from grader.pipeline.verify import hidden_cases, recording, verify
@@ -156,13 +159,16 @@ def test_the_collector_gives_the_student_s_functions_back_after_a_collection(tmp
     assert all(namespace[n] is f for n, f in before.items())
 
 
-@pytest.mark.parametrize("function", sorted(callees.COMPOSITIONS))
+COMPOSITIONS = callees.course_callees(_COURSE).compositions
+
+
+@pytest.mark.parametrize("function", sorted(COMPOSITIONS))
 def test_every_composition_is_the_reference_when_nothing_is_substituted(function):
     cases, expected = seeded_cases(function, 3)
     for case, ref in zip(cases, expected):
         if "raises" in case.context:  # a contract promise for bad input: nothing to compose
             continue
-        composed = run_steps(case, callees._resolve)
+        composed = run_steps(case, callees.course_callees(_COURSE).resolve)
         assert callees.matches_own_work(composed, ref), case.label
 
 
@@ -226,7 +232,9 @@ def test_forged_call_records_are_left_out_and_never_crash_the_reading(tmp_path):
 def course_calls() -> set[tuple[str, str, str]]:
     """(notebook, callee, caller): every course function a teaching solution calls, where the caller is graded."""
     from grader.build.authored import read_authored, referenced_names
-    from grader.contract import stage_functions
+    from grader.course_pack import pack
+    _COURSE = pack("deformation")
+    stage_functions = _COURSE.stage_functions
 
     pairs = set()
     for path in sorted((ROOT / "notebooks" / "deformation").glob("*.py")):

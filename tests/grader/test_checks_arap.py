@@ -246,7 +246,7 @@ def test_a_students_multi_step_outputs_pass_through_the_kernel_wire(function, tm
 
 def test_scenes_have_clockwise_mixed_and_scaled_copies_the_reference_solves_alike():
     """The orientation, size and place of a hidden problem never change its answer (up to the same similarity)."""
-    from grader.checks.arap import DISC, JITTERED, SCALED, TWO_COMPONENTS, deformation_scenes
+    from deformlab_packs.deformation.checks.arap import DISC, JITTERED, SCALED, TWO_COMPONENTS, deformation_scenes
 
     scenes = deformation_scenes(np.random.default_rng(9))
 

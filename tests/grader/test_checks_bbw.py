@@ -157,7 +157,7 @@ def test_nan_weights_fail_cleanly():
 
 
 def test_hidden_scenes_use_both_orientations_and_a_far_scaled_copy():
-    from grader.checks.bbw import handle_scenes
+    from deformlab_packs.deformation.checks.bounded_biharmonic_weights import handle_scenes
 
     scenes = handle_scenes(np.random.default_rng(10))
     # igl.doublearea is signed for 2D input

@@ -8,7 +8,8 @@ import pytest
 
 import reference.meshes as ref
 from grader.checks import check_namespace
-from grader.checks.meshes import _topology_meshes, clockwise, closed_mesh_with_hole, disjoint_union, mixed_orientation, perforated_slab, relabel, similar_copy, unsorted_order
+from deformlab_packs.deformation.checks.generators import clockwise, closed_mesh_with_hole, disjoint_union, mixed_orientation, perforated_slab, relabel, similar_copy, unsorted_order
+from deformlab_packs.deformation.checks.meshes import _topology_meshes
 from starter import shapes
 
 

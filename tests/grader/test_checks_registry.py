@@ -11,7 +11,10 @@ import scipy.sparse as sp
 import reference
 from grader.checks import all_checks, evaluate, run_hidden_checks, seeded_cases
 from grader.checks.base import run_steps
-from grader.contract import CONTRACT_NAMES, reference_function
+from grader.course_pack import pack
+_COURSE = pack("deformation")
+CONTRACT_NAMES = _COURSE.function_names
+reference_function = _COURSE.reference_function
 from grader.harness.outputs import CaseOutput
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -9,8 +9,8 @@ from hypothesis import given, settings, strategies as st
 import reference.shape_matching as stage01
 import reference.sign_correction as ref
 from grader.checks import check_namespace, all_checks
-from grader.checks.rotations import det_verdict, rotation_verdicts
-from grader.checks.shape_matching import random_rotation
+from deformlab_packs.deformation.checks.sign_correction import det_verdict, rotation_verdicts
+from deformlab_packs.deformation.checks.generators import random_rotation
 
 
 def grade(function, implementation, seed=0):

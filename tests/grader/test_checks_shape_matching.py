@@ -8,7 +8,8 @@ from hypothesis import given, settings, strategies as st
 
 import reference.shape_matching as ref
 from grader.checks import check_namespace, all_checks, evaluate, reference_outputs, wire
-from grader.checks.shape_matching import orthonormal_verdict, random_rotation, trace_verdict
+from deformlab_packs.deformation.checks.generators import random_rotation
+from deformlab_packs.deformation.checks.shape_matching import orthonormal_verdict, trace_verdict
 from grader.harness.outputs import CaseOutput
 
 
@@ -116,7 +117,7 @@ def test_nan_in_a_pair_fails_cleanly():
 
 
 def test_the_scaled_and_moved_copy_has_the_original_answer_up_to_the_same_similarity():
-    from grader.checks.shape_matching import alignment_objective, alignment_point_sets
+    from deformlab_packs.deformation.checks.shape_matching import alignment_objective, alignment_point_sets
 
     sets = {label: (P, Q, w) for label, P, Q, w in alignment_point_sets(np.random.default_rng(12))}
     original = sets["2D weighted, noisy rotated copy"]

@@ -2,6 +2,8 @@
 
 import argparse
 
+import time
+
 import pytest
 
 from grader.cli import build_parser, main
@@ -109,3 +111,22 @@ def test_without_flags_the_due_date_comes_from_the_gradebook_and_the_plugin_from
 def test_an_unreadable_due_date_is_a_usage_error(tmp_path, capsys):
     assert main(["grade", str(tmp_path), "--out", str(tmp_path / "o"), "--due", "soon"]) == 2
     assert "--due 'soon' is not a date" in capsys.readouterr().err
+
+
+def test_a_wrong_submitted_folder_is_refused_at_once_before_building_or_writing_anything(tmp_path, capsys):
+    wrong = tmp_path / "wrong"
+    (wrong / "notes").mkdir(parents=True)
+    out = tmp_path / "out"
+    started = time.process_time()
+    assert main(["grade", str(wrong), "--out", str(out)]) == 2
+    # the refusal builds no notebook and runs no nbgrader: a fraction of a CPU-second (building took 30 s)
+    assert time.process_time() - started < 1.0
+    assert "holds no <student>/deformation/ folder" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_an_assignment_no_course_pack_declares_is_refused_naming_the_course_s_assignments(tmp_path, capsys):
+    (tmp_path / "s" / "alice" / "geometry").mkdir(parents=True)
+    assert main(["grade", str(tmp_path / "s"), "--out", str(tmp_path / "out"), "--assignment", "geometry"]) == 2
+    err = capsys.readouterr().err
+    assert "no course pack declares assignment 'geometry'" in err and "'deformation', 'smoothing'" in err

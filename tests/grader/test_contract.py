@@ -1,4 +1,5 @@
-"""The contract tables in grader/contract.py match shared/CONTRACT.md, BONUS_CONTRACT.md, LECTURE_CONTRACT.md and reference/."""
+"""The deformation pack's stages (assignments/deformation/assignment.toml) match shared/CONTRACT.md, BONUS_CONTRACT.md,
+LECTURE_CONTRACT.md and reference/."""
 
 import re
 from pathlib import Path
@@ -6,11 +7,14 @@ from pathlib import Path
 import pytest
 
 import reference
-from grader.contract import BONUS_NAMES, BONUS_STAGES, CONTRACT_NAMES, LECTURE_NAMES, LECTURE_STAGES, MODULE_OF, STAGES
+from grader.course_pack import pack
 
-CONTRACT_MD = Path(__file__).resolve().parents[3] / "shared" / "CONTRACT.md"
-BONUS_CONTRACT_MD = Path(__file__).resolve().parents[2] / "BONUS_CONTRACT.md"
-LECTURE_CONTRACT_MD = Path(__file__).resolve().parents[2] / "LECTURE_CONTRACT.md"
+ROOT = Path(__file__).resolve().parents[2]
+CONTRACT_MD = ROOT.parent / "shared" / "CONTRACT.md"
+BONUS_CONTRACT_MD = ROOT / "BONUS_CONTRACT.md"
+LECTURE_CONTRACT_MD = ROOT / "LECTURE_CONTRACT.md"
+COURSE = pack("deformation")
+BONUS_NAMES = {f for s in COURSE.stages if s.bonus for f in s.functions}
 
 
 def _table_names(path: Path) -> set[str]:
@@ -18,30 +22,30 @@ def _table_names(path: Path) -> set[str]:
 
 
 @pytest.mark.skipif(not CONTRACT_MD.is_file(), reason="shared/CONTRACT.md is not beside this checkout")
-def test_registry_lists_exactly_the_functions_of_contract_md_outside_the_bonus_and_lecture_tables():
-    assert _table_names(CONTRACT_MD) == set(CONTRACT_NAMES - BONUS_NAMES - LECTURE_NAMES)
+def test_the_pack_grades_exactly_the_functions_of_the_three_contract_files():
+    assert _table_names(CONTRACT_MD) == set(COURSE.function_names) - BONUS_NAMES - _table_names(LECTURE_CONTRACT_MD)
 
 
-def test_bonus_stages_list_exactly_the_functions_of_bonus_contract_md():
-    assert _table_names(BONUS_CONTRACT_MD) == set(BONUS_NAMES)
-    assert BONUS_STAGES <= set(STAGES)
+def test_the_bonus_stage_grades_exactly_the_functions_of_bonus_contract_md():
+    assert _table_names(BONUS_CONTRACT_MD) == BONUS_NAMES
+    assert [s.notebook for s in COURSE.stages if s.bonus] == ["06_fast"]
 
 
-def test_lecture_tables_list_exactly_the_functions_of_lecture_contract_md_in_existing_stages():
-    assert _table_names(LECTURE_CONTRACT_MD) == set(LECTURE_NAMES)
-    assert set(LECTURE_STAGES) <= set(STAGES)
-    assert not LECTURE_NAMES & BONUS_NAMES
+def test_lecture_contract_functions_are_graded_by_existing_stages_and_none_is_bonus():
+    lecture = _table_names(LECTURE_CONTRACT_MD)
+    assert lecture <= COURSE.function_names
+    assert not lecture & BONUS_NAMES
 
 
-def test_every_contract_function_is_importable_from_the_reference_package():
-    missing = sorted(n for n in CONTRACT_NAMES if not callable(getattr(reference, n, None)))
+def test_every_graded_function_is_exported_by_the_reference_package():
+    missing = sorted(n for n in COURSE.function_names if not callable(getattr(reference, n, None)))
     assert not missing, f"not exported by reference/__init__.py: {missing}"
 
 
-def test_each_function_lives_in_its_stage_module():
-    import importlib
+def test_each_stage_lists_its_functions_in_the_order_its_notebook_teaches_them():
+    from grader.build.authored import read_authored
 
-    for stage, (module, names) in [*STAGES.items(), *LECTURE_STAGES.items()]:
-        mod = importlib.import_module(f"reference.{module}")
-        for name in names:
-            assert getattr(mod, name).__module__ == f"reference.{MODULE_OF[name]}", (stage, name)
+    for stage in COURSE.stages:
+        authored = read_authored(COURSE.notebooks / f"{stage.notebook}.py", COURSE)
+        own = [c.function for c in authored.cells if c.kind == "solution" and c.function in stage.functions]
+        assert own == list(stage.functions), stage.notebook

@@ -25,7 +25,9 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from grader.contract import STAGES
+from grader.course_pack import pack
+_COURSE = pack("deformation")
+STAGES = _COURSE.stage_names
 from grader.corpus import CorpusEntry, build_submission, load_corpus, student_id, student_notebook
 from grader.pipeline.run import GradeOptions, grade_class
 from grader.sandbox.process_limit import pids_parent

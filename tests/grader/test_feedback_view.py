@@ -20,8 +20,10 @@ import scipy.sparse as sp
 
 from grader.harness.outputs import CaseOutput, Collected
 from grader.pipeline import feedback_view
-from grader.pipeline.feedback import PICTURED, feedback_html
-from grader.pipeline.feedback_view import FAR, LEVELS, QUANT, VERTEX_BUDGET, deformation_view, view_for, weights_view
+from deformlab_packs.deformation.pictures import PICTURED
+from deformlab_packs.deformation.pictures import view as view_for
+from grader.pipeline.feedback import feedback_html
+from grader.pipeline.feedback_view import FAR, LEVELS, QUANT, VERTEX_BUDGET, deformation_view, weights_view
 from grader.pipeline.unit import UnitSpec
 from grader.pipeline.verify import GradedCell, hidden_cases, verify
 from starter import shapes

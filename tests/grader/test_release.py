@@ -8,7 +8,6 @@ import pytest
 
 from grader.build.authored import solution_body
 from grader.build.release import (
-    DEMO,
     ReleaseReport,
     check_demo_execution,
     public_lines,
@@ -19,8 +18,10 @@ from grader.build.release import (
     write_bundle,
 )
 from grader.paths import CoursePaths
+from tests.course_copy import copy_course_config
 
 ROOT = Path(__file__).resolve().parents[2]
+DEMO = "demo_skinning"
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +30,7 @@ def released(tmp_path_factory):
     root = tmp_path_factory.mktemp("course")
     for name in ("notebooks", "starter", "data", "reference"):
         (root / name).symlink_to(ROOT / name)
-    (root / "assignments").mkdir()
+    copy_course_config(root / "assignments")
     paths = CoursePaths(root)
     return paths, release(paths=paths)
 
@@ -101,7 +102,7 @@ def test_the_demo_check_reports_a_failing_cell_and_missing_widget_and_animation(
     broken = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("open('posed.gif', 'wb').close()"), nbformat.v4.new_code_cell("1 / 0")])
     broken.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
     report = ReleaseReport()
-    check_demo_execution(broken, report)
+    check_demo_execution(broken, report, DEMO)
     assert report.problems == [
         f"demo {DEMO}.ipynb, cell 2 fails: ZeroDivisionError: division by zero",
         f"demo {DEMO}.ipynb does not show the widget (application/vnd.jupyter.widget-view+json)",
@@ -120,7 +121,7 @@ def test_the_leak_scan_finds_a_pasted_reference_body():
 
 
 def test_the_leak_scan_finds_a_pasted_teaching_solution():
-    teaching = teaching_bodies(ROOT / "notebooks", "deformation")
+    teaching = teaching_bodies("deformation")
     assert "teaching arap_solve (03_arap)" in teaching
     pasted = "def f():\n" + "\n".join("    " + line for line in teaching["teaching arap_solve (03_arap)"].splitlines())
     problems = scan_for_leaks({"starter/helper.py": pasted}, teaching)
@@ -173,7 +174,7 @@ def test_the_leak_scan_refuses_one_line_of_a_reference_body_in_a_provided_cell()
 
 
 def test_the_leak_scan_refuses_a_markdown_hint_quoting_the_sign_fix():
-    teaching = teaching_bodies(ROOT / "notebooks", "deformation")
+    teaching = teaching_bodies("deformation")
     for quote, body in (
         ("V_tilde[..., -1]  *=  sign[..., None]", "teaching optimal_rotation (02_sign_correction)"),  # spacing changed
         ("Vt[np.linalg.det(U @ Vt) < 0, -1, :] *= -1.0", "reference optimal_rotation"),

@@ -8,7 +8,7 @@ import nbformat
 import pytest
 
 from grader.build.release import ReleaseReport, check_grades, release
-from grader.contract import ASSIGNMENT
+ASSIGNMENT = "deformation"
 from grader.paths import CoursePaths
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -55,3 +55,24 @@ def test_the_grading_check_names_no_scratch_folder(quick_release, capsys):
     assert report.problems == []
     out = capsys.readouterr().out
     assert "dl-release-" not in out and "grades.csv" not in out
+
+
+def test_a_notebook_loading_a_course_file_the_bundle_does_not_ship_is_refused_without_executing(tmp_path):
+    """Every release, --no-execute too, checks that the data files the notebooks name are in the pack's bundle."""
+    import dataclasses
+
+    from grader.build.release import ReleaseReport, check_course_files
+    from grader.course_pack import pack
+    from grader.paths import CoursePaths
+
+    course = pack("deformation")
+    paths = CoursePaths(ROOT)
+    report = ReleaseReport()
+    check_course_files(paths, course, report)
+    assert report.problems == []
+    missing = dataclasses.replace(course, data=tuple(d for d in course.data if d != "bar_tet.npz"))
+    check_course_files(paths, missing, report)
+    assert report.problems == [
+        f"07_tetrahedra.py loads data/bar_tet.npz, which the student bundle does not ship: "
+        f"add it to data in {course.folder / 'assignment.toml'}"
+    ]

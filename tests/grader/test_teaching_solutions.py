@@ -4,6 +4,7 @@ The release proves the same through the real pipeline (tests/grader/test_release
 this runs the trusted checks in process, one notebook at a time.
 """
 
+import re
 import ast
 from pathlib import Path
 
@@ -11,7 +12,13 @@ import pytest
 
 from grader.build.authored import read_authored, solution_body
 from grader.checks import check_namespace
-from grader.contract import LECTURE_NAMES, STAGES, stage_functions, stage_of
+from grader.course_pack import pack
+_COURSE = pack("deformation")
+LECTURE_NAMES = frozenset(re.findall(r"^\| `([a-z_]+)\(", (Path(__file__).resolve().parents[2] / "LECTURE_CONTRACT.md").read_text(), flags=re.M))
+STAGES = _COURSE.stage_names
+stage_functions = _COURSE.stage_functions
+CONTRACT_NAMES = _COURSE.function_names
+stage_of = _COURSE.stage_of
 from grader.pipeline.sanitize import _calls_contract_at_top_level
 
 NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks" / "deformation"
@@ -23,7 +30,7 @@ def _namespace(notebook: str) -> dict:
     """The notebook's setup cells and solution cells, executed as grading runs them."""
     namespace: dict = {}
     for cell in read_authored(NOTEBOOKS / f"{notebook}.py").cells:
-        if cell.kind == "solution" or (cell.kind == "provided" and not _calls_contract_at_top_level(cell.source)):
+        if cell.kind == "solution" or (cell.kind == "provided" and not _calls_contract_at_top_level(cell.source, CONTRACT_NAMES)):
             exec(compile(cell.source, f"{notebook}.py", "exec"), namespace)
     return namespace
 

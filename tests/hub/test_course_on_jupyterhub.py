@@ -49,6 +49,7 @@ from pathlib import Path
 import nbformat
 import psutil
 import pytest
+from tests.course_copy import copy_course_config
 
 from tests.browser.conftest import CHROMIUM, FLAGS, NO_CHROMIUM, free_port
 
@@ -265,8 +266,8 @@ def build_course(instructor: User) -> None:
 
     kit = instructor.home / "deformlab"
     source = kit / "assignments" / "source" / ASSIGNMENT / f"{NOTEBOOK}.ipynb"
-    write_as(instructor, kit / "assignments" / "nbgrader_config.py", (ROOT / "assignments" / "nbgrader_config.py").read_text())
     write_as(instructor, source, nbformat.writes(build_source_notebook(read_authored(ROOT / "notebooks" / ASSIGNMENT / f"{NOTEBOOK}.py"))))
+    copy_course_config(kit / "assignments")  # chowned to the instructor below
     for name in ("data", "starter", "notebooks"):
         (kit / name).symlink_to(ROOT / name, target_is_directory=True)
         os.lchown(kit / name, instructor.uid, pwd.getpwnam(instructor.name).pw_gid)

@@ -1,16 +1,13 @@
 """The smoothing pack's hidden checks pass the reference and the teaching solutions, fail every buggy corpus entry, and its public tests name each bug first.
 
-The pack is loaded from its files (``assignments/smoothing``), as the engine's
-loader does: ``checks`` imported as a package by path, every ``FunctionChecks``
-subclass in it registered. Outputs go through the kernel wire's conversion
+The pack is loaded by the engine (``grader.course_pack``, ``grader.checks.all_checks``):
+every ``FunctionChecks`` subclass of its ``checks`` package, keyed by (assignment, function). Outputs go through the kernel wire's conversion
 (``grader.checks.wire``), so the verdicts are those grading would give.
 """
 
 from __future__ import annotations
 
 import importlib.util
-import inspect
-import sys
 import tomllib
 from pathlib import Path
 
@@ -19,8 +16,9 @@ import numpy as np
 import pytest
 
 import reference.laplacian_smoothing as ref
-from grader.checks import evaluate, wire
-from grader.checks.base import FunctionChecks, run_steps
+from grader.checks import all_checks, evaluate, wire
+from grader.course_pack import pack
+from grader.checks.base import run_steps
 from grader.harness.outputs import CaseOutput
 
 REPO = Path(__file__).resolve().parents[2]
@@ -40,26 +38,7 @@ HINTS = {
 }
 
 
-def load_checks() -> dict[str, FunctionChecks]:
-    """Function name -> its checks, from every module of the pack's ``checks`` package."""
-    name = "deformlab_pack_smoothing_checks"
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, PACK / TOML["checks"] / "__init__.py", submodule_search_locations=[str(PACK / TOML["checks"])])
-        package = importlib.util.module_from_spec(spec)
-        sys.modules[name] = package
-        spec.loader.exec_module(package)
-    found = {}
-    for path in sorted((PACK / TOML["checks"]).glob("*.py")):
-        if path.stem == "__init__":
-            continue
-        module = importlib.import_module(f"{name}.{path.stem}")
-        for obj in vars(module).values():
-            if inspect.isclass(obj) and issubclass(obj, FunctionChecks) and obj.function and obj.__module__ == module.__name__:
-                found[obj.function] = obj()
-    return found
-
-
-CHECKS = load_checks()
+CHECKS = all_checks("smoothing")
 _CASES: dict[tuple[str, int], tuple] = {}
 
 
@@ -132,9 +111,7 @@ def test_the_pack_registers_checks_for_exactly_its_functions():
 
 def test_no_function_shares_a_name_with_the_deformation_course():
     """One installation grades both courses: a shared name would be ambiguous."""
-    from grader.contract import CONTRACT_NAMES
-
-    assert not set(FUNCTIONS) & set(CONTRACT_NAMES)
+    assert not set(FUNCTIONS) & pack("deformation").function_names
 
 
 @pytest.mark.parametrize("function", FUNCTIONS)

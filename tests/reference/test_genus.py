@@ -7,7 +7,7 @@ from hypothesis import given, settings, strategies as st
 from pyvista import examples
 
 from reference.meshes import genus
-from grader.checks.meshes import perforated_slab
+from deformlab_packs.deformation.checks.generators import perforated_slab
 from starter import shapes
 from starter.meshes import load_mesh
 

@@ -16,8 +16,9 @@ from pathlib import Path
 
 import nbformat
 import pytest
+from tests.course_copy import copy_course_config
 
-from grader.contract import ASSIGNMENT
+ASSIGNMENT = "deformation"
 from grader.corpus import build_submission, load_entry, student_notebook
 from grader.paths import CoursePaths
 
@@ -50,7 +51,7 @@ def small_course(source_notebooks, tmp_path_factory) -> CoursePaths:
         (root / name).symlink_to(ROOT / name)
     target = root / "assignments" / "source" / ASSIGNMENT
     target.mkdir(parents=True)
-    shutil.copy(ROOT / "assignments" / "nbgrader_config.py", root / "assignments")
+    copy_course_config(root / "assignments")
     for nb in NOTEBOOKS:
         shutil.copy(source_notebooks[nb], target)
     yield CoursePaths(root)

@@ -12,7 +12,7 @@ import shutil
 import nbformat
 import pytest
 
-from grader.contract import ASSIGNMENT
+ASSIGNMENT = "deformation"
 from grader.pipeline import record
 from grader.pipeline.verify import graded_cells
 from grader.paths import CoursePaths
@@ -33,7 +33,7 @@ def unit_result(sid: str, notebook: str, source: nbformat.NotebookNode, fraction
 @pytest.fixture(scope="module")
 def bonus_course(source_notebooks, tmp_path_factory):
     """``(paths, db_url, sources)``: a course of 01 and 06 whose gradebook holds ada (full marks) and bob (half of 01, a quarter of 06)."""
-    from grader.build.release import generate_assignment
+    from grader.gradebook import generate_assignment
 
     root = tmp_path_factory.mktemp("bonus-course")
     for name in ("notebooks", "starter", "data", "reference"):
@@ -116,7 +116,7 @@ def test_nbgrader_export_counts_the_bonus_in_the_score_not_the_maximum(bonus_cou
 
 
 def test_regrading_keeps_the_bonus_cells_at_zero_after_generate_assignment_reset_them(bonus_course):
-    from grader.build.release import generate_assignment
+    from grader.gradebook import generate_assignment
 
     paths, db, sources = bonus_course
     generate_assignment(paths, ASSIGNMENT, db)  # `deformlab release` writes the notebook's points again

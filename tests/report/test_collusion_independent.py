@@ -14,7 +14,9 @@ import nbformat
 import pytest
 
 from grader.checks import check_namespace
-from grader.contract import stage_functions
+from grader.course_pack import pack
+_COURSE = pack("deformation")
+stage_functions = _COURSE.stage_functions
 from grader.corpus import build_submission, load_entry
 from grader.report.collusion import SIMILARITY_THRESHOLD, boilerplate, rank_pairs, student_code
 

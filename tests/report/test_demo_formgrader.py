@@ -11,8 +11,9 @@ from __future__ import annotations
 import shutil
 
 import pytest
+from tests.course_copy import copy_course_config
 
-from grader.contract import ASSIGNMENT
+ASSIGNMENT = "deformation"
 from grader.paths import CoursePaths
 
 from .conftest import ROOT
@@ -20,7 +21,7 @@ from .conftest import ROOT
 
 @pytest.fixture(scope="module")
 def demo_course(source_notebooks, tmp_path_factory):
-    from grader.build.release import generate_assignment
+    from grader.gradebook import generate_assignment
     from grader.demo import build_class, show_in_formgrader
     from grader.pipeline.run import GradeOptions, grade_class
 
@@ -32,8 +33,7 @@ def demo_course(source_notebooks, tmp_path_factory):
     shutil.copy(source_notebooks["01_shape_matching"], paths.source / ASSIGNMENT)
     exchange = root / "exchange"
     exchange.mkdir()
-    config = (ROOT / "assignments" / "nbgrader_config.py").read_text()
-    (paths.course / "nbgrader_config.py").write_text(config + f"\nc.Exchange.root = {str(exchange)!r}\n")
+    copy_course_config(paths.course, f"\nc.Exchange.root = {str(exchange)!r}\n")
     generate_assignment(paths, ASSIGNMENT)
     submitted = paths.course / "submitted"
     (submitted / "someone_else" / ASSIGNMENT).mkdir(parents=True)  # a real student's folder, which the demo leaves alone

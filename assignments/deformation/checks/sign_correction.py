@@ -10,14 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from grader.checks.base import Case, FunctionChecks, Verdict, as_array, verdict
-from grader.checks.shape_matching import (
-    align_cases,
-    align_verdicts,
-    matrix_cases,
-    orthonormal_verdict,
-    random_rotation,
-    trace_verdict,
-)
+from .generators import random_rotation
+from .shape_matching import align_cases, align_verdicts, matrix_cases, orthonormal_verdict, trace_verdict
 
 #: Largest ``|det R − 1|`` accepted for a rotation.
 DET_TOL = 1e-8

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from grader.checks.base import Case, FunctionChecks, as_array, close, verdict
-from grader.checks.meshes import relabel
-from grader.checks.shape_matching import random_rotation
+from .generators import relabel
+from .generators import random_rotation
 from starter import shapes
 
 #: Relative tolerance of LBS outputs: products and sums of the inputs, no solve.

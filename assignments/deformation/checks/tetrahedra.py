@@ -25,7 +25,7 @@ from grader.checks.base import (
     raises,
     verdict,
 )
-from grader.checks.shape_matching import random_rotation
+from .generators import random_rotation
 from starter.meshes import load_mesh
 
 #: Relative tolerance of the direct formulas (one 3x3 inverse per tetrahedron).
@@ -167,8 +167,8 @@ class TetBiharmonicMatrixChecks(FunctionChecks):
         return [Case.call(label, "tet_biharmonic_matrix", V, T) for label, (V, T) in _meshes(rng).items()]
 
     def verify(self, case, got, expected):
-        from grader.checks.arap import sparse_verdict
-        from grader.contract import reference_function
+        from .verdicts import sparse_verdict
+        from . import reference as reference_function
 
         V, T = case.args()
         n = len(V)
@@ -235,7 +235,7 @@ class TetArapRotationsChecks(FunctionChecks):
         V, U, T = case.args()
         R = as_array(got, (len(T), 3, 3), "R")
         want = as_array(expected, (len(T), 3, 3), "the reference's R")
-        from grader.contract import reference_function
+        from . import reference as reference_function
 
         J = once_per_case(case, "J", lambda: reference_function("deformation_gradients")(V, U, T))
         gram = np.linalg.norm(np.einsum("tji,tjk->tik", R, R) - np.eye(3), axis=(1, 2))
@@ -286,7 +286,7 @@ class TetArapEnergyChecks(FunctionChecks):
         ok, where = close(E, want, TET_RTOL, abs(want))
         hint = ""
         if not ok:
-            from grader.contract import reference_function
+            from . import reference as reference_function
 
             J = reference_function("deformation_gradients")(V, U, T)
             distance = np.sum((J - R) ** 2, axis=(1, 2))
@@ -306,7 +306,7 @@ def _arap_scenes(rng: np.random.Generator):
     moved (a bend with noise); two tetrahedra of opposite orientations held at
     one vertex each.
     """
-    from grader.contract import reference_function
+    from . import reference as reference_function
 
     scenes = {}
     for label, (V, T), axis in (
@@ -341,8 +341,8 @@ def _global_step_verdicts(case, got, expected, V, T, handles, P, R) -> list:
     """Handles exact, energy at the reference's minimum for ``R``, and the same minimizer; hints for common slips."""
     import types
 
-    from grader.checks.arap import DIRECT_RTOL, SOLVE_RTOL, energy_verdict, handle_verdict, positions_verdict
-    from grader.contract import reference_function
+    from .arap import DIRECT_RTOL, SOLVE_RTOL, energy_verdict, handle_verdict, positions_verdict
+    from . import reference as reference_function
 
     U = as_array(got, (len(V), 3), "U")
     want = as_array(expected, (len(V), 3), "the reference's U")

@@ -17,7 +17,7 @@ import functools
 
 import numpy as np
 
-from grader.checks.arap import DIRECT_RTOL, HANDLE_TOL, ITERATE_RTOL, axis_rotation, energy_scale, energy_verdict, local_global_energy_verdicts
+from .arap import DIRECT_RTOL, HANDLE_TOL, ITERATE_RTOL, axis_rotation, energy_scale, energy_verdict, local_global_energy_verdicts
 from grader.checks.base import (
     Case,
     FunctionChecks,
@@ -32,10 +32,11 @@ from grader.checks.base import (
     raises,
     verdict,
 )
-from grader.checks.meshes import clockwise, mixed_orientation, relabel, unsorted_order
-from grader.checks.rotations import rotation_verdicts
-from grader.checks.shape_matching import random_rotation, trace_verdict
-from grader.contract import reference_function as reference
+from .generators import clockwise, mixed_orientation, relabel, unsorted_order
+from .sign_correction import rotation_verdicts
+from .generators import random_rotation
+from .shape_matching import trace_verdict
+from . import reference
 from starter import shapes
 from starter.meshes import load_handles, load_mesh
 

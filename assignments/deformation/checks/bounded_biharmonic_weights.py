@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from grader.checks.arap import sparse_verdict
+from .verdicts import sparse_verdict
 from grader.checks.base import Case, FunctionChecks, as_array, as_matrix, as_pair, close, max_abs, verdict
-from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
-from grader.contract import reference_function as reference
+from .generators import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
+from . import reference
 from starter import shapes
 
 #: Relative tolerance of the biharmonic matrix (no solve).

@@ -10,10 +10,10 @@ from __future__ import annotations
 import numpy as np
 
 from grader.checks.base import Case, FunctionChecks, Step, as_array, close, raises, verdict
-from grader.checks.lbs import _weights as lbs_weights
-from grader.checks.meshes import relabel
-from grader.checks.shape_matching import random_rotation
-from grader.contract import reference_function
+from .linear_blend_skinning import _weights as lbs_weights
+from .generators import relabel
+from .generators import random_rotation
+from . import reference as reference_function
 from starter import shapes
 
 #: Relative tolerance of quaternion conversions and blends: a few products and one square root.

@@ -10,13 +10,14 @@ positions are recomputed here with the reference's ``arap_energy``.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 from grader.checks.base import Case, FunctionChecks, Ref, Step, Verdict, as_array, as_float, as_matrix, as_pair, close, max_abs, verdict
-from grader.checks.meshes import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
-from grader.checks.rotations import rotation_verdicts
-from grader.checks.shape_matching import random_rotation, trace_verdict
-from grader.contract import reference_function as reference
+from .generators import clockwise, disjoint_union, jittered_grid, mixed_orientation, relabel, similar_copy, unsorted_order
+from .sign_correction import rotation_verdicts
+from .generators import random_rotation
+from .verdicts import sparse_verdict
+from .shape_matching import trace_verdict
+from . import reference
 from starter import shapes
 
 #: Relative tolerance of quantities computed without a solve (weights, matrices, energies).
@@ -204,11 +205,6 @@ def handle_verdict(U: np.ndarray, handles: np.ndarray, positions: np.ndarray) ->
         f"U[{handles[worst]}] is {U[handles[worst]].tolist()}, its handle position is {positions[worst].tolist()} "
         f"(difference {err[worst]:.3g})",
     )
-
-
-def sparse_verdict(got) -> Verdict:
-    """The contract's sparse matrices must come back sparse (the wire rebuilds them as CSR)."""
-    return verdict("a scipy.sparse matrix", sp.issparse(got), f"returned a dense {type(got).__name__}; the contract asks for a scipy.sparse matrix")
 
 
 def positions_verdict(name: str, U: np.ndarray, want: np.ndarray, V: np.ndarray, rtol: float) -> Verdict:

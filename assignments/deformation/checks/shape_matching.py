@@ -10,43 +10,12 @@ from __future__ import annotations
 import numpy as np
 
 from grader.checks.base import Case, FunctionChecks, Verdict, as_array, as_pair, close, verdict
-from grader.checks.meshes import similar_copy
+from .generators import random_rotation, similar_copy
 
 #: Largest ‖RᵀR − I‖ (Frobenius) accepted for an orthogonal matrix.
 ORTHONORMAL_TOL = 1e-8
 #: Relative slack on ``tr(R S)`` and on the alignment objective.
 OPTIMALITY_RTOL = 1e-8
-
-
-def random_rotation(rng: np.random.Generator, d: int, angle: float | None = None) -> np.ndarray:
-    """A ``(d, d)`` rotation: uniformly random, or by ``angle`` about a random axis.
-
-    Parameters
-    ----------
-    rng : numpy.random.Generator
-    d : int
-        2 or 3.
-    angle : float, optional
-        Rotation angle in radians.
-
-    Returns
-    -------
-    R : (d, d) numpy.ndarray
-        ``RᵀR = I``, ``det R = +1``.
-    """
-    if angle is None:
-        A, upper = np.linalg.qr(rng.standard_normal((d, d)))
-        A = A * np.sign(np.diag(upper))
-        if np.linalg.det(A) < 0:
-            A[:, 0] = -A[:, 0]
-        return A
-    c, s = np.cos(angle), np.sin(angle)
-    if d == 2:
-        return np.array([[c, -s], [s, c]])
-    k = rng.standard_normal(3)
-    k /= np.linalg.norm(k)
-    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + s * K + (1.0 - c) * K @ K
 
 
 def alignment_point_sets(rng: np.random.Generator) -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray | None]]:
