@@ -65,8 +65,9 @@ from typing import Callable
 
 import nbformat
 
-from grader.build.source_notebook import solution_grade_id
+from grader.grade_ids import solution_grade_id
 from grader.course_pack import pack
+from grader.grade_ids import grade_id
 
 KINDS = ("buggy", "correct", "hostile")
 
@@ -185,10 +186,6 @@ def load_corpus(folder: str | Path) -> list[CorpusEntry]:
     return [load_entry(p) for kind in KINDS for p in sorted((folder / kind).glob("*.py")) if not p.name.startswith("_")]
 
 
-def _grade_id(cell) -> str | None:
-    return (cell.get("metadata", {}).get("nbgrader") or {}).get("grade_id")
-
-
 def student_notebook(source: nbformat.NotebookNode, solutions: dict[str, str]) -> nbformat.NotebookNode:
     """The instructor notebook as a student would hand it in, with ``solutions`` replacing solution cells.
 
@@ -211,7 +208,7 @@ def student_notebook(source: nbformat.NotebookNode, solutions: dict[str, str]) -
         If a function in ``solutions`` has no solution cell in ``source``.
     """
     nb = copy.deepcopy(source)
-    by_id = {_grade_id(c): c for c in nb.cells if _grade_id(c)}
+    by_id = {grade_id(c): c for c in nb.cells if grade_id(c)}
     for function, text in solutions.items():
         cell = by_id.get(solution_grade_id(function))
         if cell is None:

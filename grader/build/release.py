@@ -42,6 +42,7 @@ from grader.build.authored import read_authored, referenced_names, solution_body
 from grader.build.source_notebook import HIDDEN_MARKERS, authored_notebooks, build_sources
 from grader.course_pack import Assignment, pack, packs
 from grader.gradebook import generate_assignment
+from grader.grade_ids import tested_function
 from grader.paths import CoursePaths, course_paths
 
 #: What a student installs; pinned at release time as constraints.txt pins it (see ``student_requirements``).
@@ -384,7 +385,7 @@ def check_points(sources: list[Path], report: ReleaseReport, course: Assignment)
                 gid, points = meta.get("grade_id", ""), meta.get("points")
                 if not points or points <= 0:
                     report.problems.append(f"{path.name}: graded cell {gid} has no points")
-                if cell.cell_type == "code" and not (gid.startswith("test_") and gid[5:] in course.function_names):
+                if cell.cell_type == "code" and not tested_function(gid) in course.function_names:
                     report.problems.append(f"{path.name}: autograded cell has an unstable grade_id {gid!r}")
                 if cell.cell_type == "code":
                     total += float(points or 0)

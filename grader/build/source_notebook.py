@@ -19,6 +19,7 @@ import nbformat
 
 from grader.build.authored import AuthoredNotebook, AuthoringError, read_authored
 from grader.course_pack import Assignment, pack
+from grader.grade_ids import answer_grade_id, exercise_grade_id, public_check_id, solution_grade_id, tests_grade_id
 from starter import library_policy
 
 BEGIN_HIDDEN = "### BEGIN HIDDEN TESTS"
@@ -27,26 +28,6 @@ END_HIDDEN = "### END HIDDEN TESTS"
 HIDDEN_MARKERS = (BEGIN_HIDDEN, END_HIDDEN, "run_hidden_checks", "grader.checks")
 
 KERNELSPEC = {"display_name": "Python 3 (ipykernel)", "language": "python", "name": "python3"}
-
-
-def tests_grade_id(function: str) -> str:
-    return f"test_{function}"
-
-
-def solution_grade_id(function: str) -> str:
-    return f"solution_{function}"
-
-
-def public_check_id(function: str) -> str:
-    return f"public_check_{function}"
-
-
-def answer_grade_id(answer_id: str) -> str:
-    return f"answer_{answer_id}"
-
-
-def exercise_grade_id(name: str) -> str:
-    return f"exercise_{name}"
 
 
 def _nbgrader(grade_id: str, *, grade: bool, solution: bool, locked: bool, points: float | None = None) -> dict:

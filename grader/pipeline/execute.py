@@ -21,6 +21,7 @@ import nbformat
 from nbclient import NotebookClient
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
 
+from grader.output_caps import MAX_CELL_OUTPUT_CHARS, MAX_NOTEBOOK_OUTPUT_CHARS, MAX_OUTPUT_CHARS, MAX_OUTPUTS_PER_CELL
 from grader.harness import kernel_side
 from grader.sandbox import SandboxedKernelManager, SandboxSpec, peak_memory_bytes
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
@@ -65,13 +66,6 @@ class Execution:
     seconds: float = 0.0
 
 
-#: Text kept per output of a cell; the rest is dropped (outputs are never trusted, only shown).
-MAX_OUTPUT_CHARS = 20_000
-#: Outputs kept as they arrive, per cell and per notebook (characters of their data); the rest never
-#: reaches the grader's memory or the executed notebook.
-MAX_OUTPUTS_PER_CELL = 100
-MAX_CELL_OUTPUT_CHARS = 1_000_000
-MAX_NOTEBOOK_OUTPUT_CHARS = 8_000_000
 
 
 def _output_chars(out) -> int:

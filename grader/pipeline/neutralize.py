@@ -23,12 +23,9 @@ import re
 
 import nbformat
 
-#: At most this many outputs are kept per cell and per notebook ...
-MAX_OUTPUTS_PER_CELL = 100
-MAX_OUTPUTS_PER_NOTEBOOK = 1000
-#: ... and at most this many bytes of them (as notebook JSON). A PNG plot is ~50 kB.
-MAX_CELL_OUTPUT_BYTES = 2 * 2**20
-MAX_NOTEBOOK_OUTPUT_BYTES = 16 * 2**20
+from grader.grade_ids import grade_id
+from grader.output_caps import MAX_CELL_OUTPUT_BYTES, MAX_NOTEBOOK_OUTPUT_BYTES, MAX_OUTPUTS_PER_CELL, MAX_OUTPUTS_PER_NOTEBOOK
+
 
 _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 # A character reference (``&lt;``, ``&#60;``, ``&#x3c;``): markdown decodes those, in link targets twice.
@@ -130,12 +127,6 @@ def _png_attachments(value) -> dict:
     return kept
 
 
-def _grade_id(cell) -> str | None:
-    meta = cell.get("metadata", {}).get("nbgrader")
-    gid = meta.get("grade_id") if isinstance(meta, dict) else None
-    return gid if isinstance(gid, str) else None
-
-
 def neutralize(nb: nbformat.NotebookNode, source: nbformat.NotebookNode) -> list[str]:
     """Make an executed notebook inert for formgrader and feedback pages, in place.
 
@@ -167,7 +158,7 @@ def neutralize(nb: nbformat.NotebookNode, source: nbformat.NotebookNode) -> list
     metadata (and so any widget state) is the source's.
     """
     notes: list[str] = []
-    by_gid = {_grade_id(c): c for c in source.cells if _grade_id(c)}
+    by_gid = {grade_id(c): c for c in source.cells if grade_id(c)}
     trusted_text = {(c.cell_type, c.source): c for c in source.cells if c.cell_type in ("markdown", "raw")}
     nb.metadata = copy.deepcopy(source.metadata)
     nb.metadata.pop("widgets", None)
@@ -175,7 +166,7 @@ def neutralize(nb: nbformat.NotebookNode, source: nbformat.NotebookNode) -> list
     restored: set[str] = set()
     for index, cell in enumerate(nb.cells):
         where = f"cell {index + 1}"
-        gid = _grade_id(cell)
+        gid = grade_id(cell)
         original = by_gid.get(gid)
         if original is not None and original.cell_type == cell.cell_type and gid not in restored:
             restored.add(gid)

@@ -24,6 +24,8 @@ from pathlib import Path
 
 import nbformat
 
+from grader.grade_ids import grade_id, tested_function
+
 
 #: A submission larger than this is not read at all.
 MAX_NOTEBOOK_BYTES = 64 * 2**20
@@ -57,11 +59,6 @@ def _nbgrader_meta(cell) -> dict:
     meta = cell.get("metadata")
     meta = meta.get("nbgrader") if isinstance(meta, dict) else None
     return meta if isinstance(meta, dict) else {}
-
-
-def _grade_id(cell) -> str | None:
-    gid = _nbgrader_meta(cell).get("grade_id")
-    return gid if isinstance(gid, str) else None
 
 
 def _is_locked(cell) -> bool:
@@ -150,10 +147,7 @@ def graded_functions(source: nbformat.NotebookNode) -> frozenset[str]:
     listed = (source.metadata.get("deformlab") or {}).get("functions")
     if isinstance(listed, list) and all(isinstance(n, str) for n in listed):
         return frozenset(listed)
-    return frozenset(
-        gid[len("test_"):] for cell in source.cells
-        if (gid := (cell.metadata.get("nbgrader") or {}).get("grade_id", "")).startswith("test_")
-    )
+    return frozenset(f for cell in source.cells if (f := tested_function(grade_id(cell))) is not None)
 
 
 def _calls_contract_at_top_level(source: str, names: frozenset[str]) -> bool:
@@ -214,9 +208,9 @@ def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> S
         If the notebook shares no graded cell with the source (another assignment's notebook).
     """
     notes: list[str] = []
-    source_ids = [_grade_id(c) for c in source.cells]
-    locked_source = {_grade_id(c): c for c in source.cells if _is_locked(c) and _grade_id(c)}
-    if not ({g for g in source_ids if g} & {_grade_id(c) for c in student.cells}):
+    source_ids = [grade_id(c) for c in source.cells]
+    locked_source = {grade_id(c): c for c in source.cells if _is_locked(c) and grade_id(c)}
+    if not ({g for g in source_ids if g} & {grade_id(c) for c in student.cells}):
         raise SubmissionError(
             "this notebook shares no graded cell with the assignment's notebook: "
             "is it another assignment's notebook, or were the cells' metadata removed?"
@@ -224,7 +218,7 @@ def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> S
 
     cells, seen = [], set()
     for cell in student.cells:
-        gid = _grade_id(cell)
+        gid = grade_id(cell)
         if gid and gid in seen:
             if gid in locked_source:
                 notes.append(f"removed a duplicate of the read-only cell {gid}")
@@ -243,13 +237,13 @@ def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> S
         cells.append(cell)  # rebuilt below; the student's own metadata is never copied
 
     # Put back deleted read-only cells after the nearest earlier cell that is still there.
-    position = {_grade_id(c): i for i, c in enumerate(cells) if _grade_id(c)}
+    position = {grade_id(c): i for i, c in enumerate(cells) if grade_id(c)}
     for k, gid in enumerate(source_ids):
         if gid in locked_source and gid not in position:
             before = next((position[g] for g in reversed(source_ids[:k]) if g in position), -1)
             cells.insert(before + 1, copy.deepcopy(locked_source[gid]))
             notes.append(f"restored the deleted cell {gid}")
-            position = {_grade_id(c): i for i, c in enumerate(cells) if _grade_id(c)}
+            position = {grade_id(c): i for i, c in enumerate(cells) if grade_id(c)}
 
     nb = nbformat.v4.new_notebook(metadata=copy.deepcopy(source.metadata))
     by_grade_id = {g: c for g, c in zip(source_ids, source.cells) if g}
@@ -261,7 +255,7 @@ def sanitize(student: nbformat.NotebookNode, source: nbformat.NotebookNode) -> S
             while cid in used_ids:
                 cid += "x"
         used_ids.add(cid)
-        nb.cells.append(_rebuilt(cell, by_grade_id.get(_grade_id(cell)), cid))
+        nb.cells.append(_rebuilt(cell, by_grade_id.get(grade_id(cell)), cid))
     return Sanitized(nb=nb, plan=grading_plan(nb, graded_functions(source)), notes=notes)
 
 

@@ -15,6 +15,7 @@ import nbformat
 
 from grader.checks import FunctionResult, all_checks, charge_policy, evaluate, record_plan, seeded_cases
 from grader.checks.base import Case
+from grader.grade_ids import tested_function
 from grader.harness.outputs import Collected, OutputError
 
 
@@ -33,8 +34,9 @@ def graded_cells(source: nbformat.NotebookNode) -> list[GradedCell]:
     for cell in source.cells:
         meta = cell.metadata.get("nbgrader") or {}
         gid = meta.get("grade_id", "")
-        if cell.cell_type == "code" and meta.get("grade") and gid.startswith("test_"):
-            cells.append(GradedCell(gid, gid[len("test_"):], float(meta.get("points", 0))))
+        function = tested_function(gid)
+        if cell.cell_type == "code" and meta.get("grade") and function is not None:
+            cells.append(GradedCell(gid, function, float(meta.get("points", 0))))
     return cells
 
 

@@ -41,6 +41,8 @@ ENTRIES = [e for e in _ALL_ENTRIES if CAPPED or not e.needs_process_cap]
 LEFT_OUT = sorted(e.name for e in _ALL_ENTRIES if e not in ENTRIES)
 SEED = 20240611
 # Small limits, so that the attacks on them are quick: a 45 s notebook and a 512 MiB workdir.
+#: seconds a cell may run: a hanging entry is stopped by it, a busy machine never is (10 s was, under load)
+CELL_TIMEOUT = 20
 WALL = 45.0
 DISK_BYTES = 512 * 2**20
 
@@ -176,7 +178,7 @@ def graded(tmp_path_factory, make_course) -> Iterator[Graded]:
                 submitted,
                 tmp / "out",
                 GradeOptions(
-                    workers=2, timeout=10, wall=WALL, disk_bytes=DISK_BYTES,
+                    workers=2, timeout=CELL_TIMEOUT, wall=WALL, disk_bytes=DISK_BYTES,
                     db_url=f"sqlite:///{tmp}/gb.db", seed=SEED, progress=False,
                 ),
             )
