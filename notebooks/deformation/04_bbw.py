@@ -14,7 +14,7 @@
 # # 04 · Bounded biharmonic weights
 #
 # Linear blend skinning (stage 05) moves every vertex by a blend of the handles'
-# transformations, $u = \sum_j w_j(v)\, T_j [v; 1]$. The pose is only the $m$
+# transformations, $x' = \sum_j w_j(x)\, T_j [x; 1]$. The pose is only the $m$
 # transformations; everything the shape "knows" about how it bends is in the
 # **weight functions** $w_j$, one per handle, computed once on the rest shape.
 # What should they look like?
@@ -329,7 +329,7 @@ assert np.array_equal(_bc.sum(axis=1), np.ones(len(_b))), "every row of bc must 
 # inverse-distance weights for handle points $h_j$,
 #
 # $$
-# w_j(v) = \frac{\|v - h_j\|^{-p}}{\sum_k \|v - h_k\|^{-p}} ,
+# w_j(x) = \frac{\|x - h_j\|^{-p}}{\sum_k \|x - h_k\|^{-p}} ,
 # $$
 #
 # with $w_j(h_j) = 1$ as the limit. They are positive and a partition of unity,
@@ -369,7 +369,7 @@ def inverse_distance_weights(V, handle_points, power=2):
     Returns
     -------
     W : (n, m) numpy.ndarray
-        ``W[i, j] ∝ ‖v_i - h_j‖^-power``, rows summing to 1; a vertex within 1e-12 of a
+        ``W[i, j] ∝ ‖x_i - h_j‖^-power``, rows summing to 1; a vertex within 1e-12 of a
         handle point gets that handle's one-hot row.
     """
     ### BEGIN SOLUTION
@@ -519,7 +519,7 @@ assert _W.min() < -1e-3, "these weights should go negative somewhere (the lobes)
 # ## 6 · Bounded biharmonic weights
 #
 # Why do negative weights matter? Translate handle $j$ by $t$ and leave the
-# others: every vertex moves by $w_j(v)\,t$. Where $w_j < 0$ the vertex moves
+# others: every vertex moves by $w_j(x)\,t$. Where $w_j < 0$ the vertex moves
 # **against** the handle: pull one hand up and patches around the other handles
 # move down. Weights above 1 overshoot: those vertices move further than the
 # handle itself. BBW adds the bounds to
@@ -550,7 +550,7 @@ assert _W.min() < -1e-3, "these weights should go negative somewhere (the lobes)
 # weights no longer sum to exactly one; dividing every row by its sum restores
 # the partition of unity (and keeps the bounds and the interpolation). That is
 # what makes LBS reproduce rigid motions: if every $T_j = T$ then
-# $u = \sum_j w_j T[v;1] = T[v;1]$.
+# $x' = \sum_j w_j T[x;1] = T[x;1]$.
 #
 # **Your task.** `bbw(V, F, b, bc)` returns the normalized `(n, m)` weights, within
 # `[0, 1]` and summing to one to 1e-9.
@@ -686,7 +686,7 @@ plotting.show_weights(V, F, W_bbw, handles=[np.array([p]) for p in points], titl
 # handles (head, left foot, right foot) the unconstrained weight of the left
 # foot dips to about −0.1 over the whole right arm. Pull the left foot to the
 # left and keep the other two handles: with translations only, every vertex
-# moves by $w_{\text{foot}}(v)\,t$, coloured below by that weight.
+# moves by $w_{\text{foot}}(x)\,t$, coloured below by that weight.
 
 # %%
 regions = character_handles["regions"]
@@ -786,7 +786,7 @@ plotting.show_weights(V, F, np.stack([W_harmonic[:, hand], W_unconstrained[:, ha
 # %% [markdown]
 # **Question.** In the fork experiment, inverse-distance weights leaked across
 # the slot and bounded biharmonic weights did not. Could *any* weight of the form
-# $w_j(v) = f(\|v - h_j\|)$ (normalized), with a cleverer $f$, avoid the leak?
+# $w_j(x) = f(\|x - h_j\|)$ (normalized), with a cleverer $f$, avoid the leak?
 # Say what information such weights would need, and how the biharmonic weights
 # get it. Then explain the harmonic weights' shares in the last experiment.
 
