@@ -20,8 +20,8 @@
 # and every vertex moves by a weighted blend of the handles' transformations,
 #
 # $$
-# u_i \;=\; \sum_{j=1}^{m} w_j(v_i)\; T_j \begin{bmatrix} v_i \\ 1 \end{bmatrix}
-# \;=\; \sum_{j=1}^{m} w_{ij}\,(A_j v_i + t_j).
+# x'_i \;=\; \sum_{j=1}^{m} w_j(x_i)\; T_j \begin{bmatrix} x_i \\ 1 \end{bmatrix}
+# \;=\; \sum_{j=1}^{m} w_{ij}\,(A_j x_i + t_j).
 # $$
 #
 # This is *linear blend skinning* (LBS). The weights $w_{ij}$ are computed once,
@@ -41,7 +41,7 @@
 # **Cages** fit the same mould: the vertices of a coarse polygon (or polyhedron)
 # enclosing the shape are point handles that only translate, the weights are
 # *generalized barycentric coordinates* of the cage (mean-value, harmonic or
-# Green coordinates), and $u_i = \sum_j w_{ij}\, c'_j$ for the moved cage
+# Green coordinates), and $x'_i = \sum_j w_{ij}\, c'_j$ for the moved cage
 # vertices $c'_j$. Stage 04 (§9) builds one with `bbw`: the weights are
 # constrained to be linear along the cage's edges instead of one-hot.
 #
@@ -67,13 +67,13 @@ rng = np.random.default_rng(5)
 # Transpose the formula for one vertex and collect the handles side by side:
 #
 # $$
-# u_i^\top \;=\; \sum_j w_{ij}\, [v_i^\top \; 1]\; T_j^\top
-# \;=\; \underbrace{\bigl[\, w_{i1}[v_i^\top \; 1] \;\; w_{i2}[v_i^\top \; 1] \;\cdots\; w_{im}[v_i^\top \; 1] \,\bigr]}_{\text{row } i \text{ of } A}
+# {x'_i}^\top \;=\; \sum_j w_{ij}\, [x_i^\top \; 1]\; T_j^\top
+# \;=\; \underbrace{\bigl[\, w_{i1}[x_i^\top \; 1] \;\; w_{i2}[x_i^\top \; 1] \;\cdots\; w_{im}[x_i^\top \; 1] \,\bigr]}_{\text{row } i \text{ of } A}
 # \begin{bmatrix} T_1^\top \\ \vdots \\ T_m^\top \end{bmatrix}.
 # $$
 #
 # So $U = A\,T_{\text{stack}}$ with $A$ of size $n \times m(d+1)$,
-# $M_{i,\,j(d+1)+c} = w_{ij}\,[v_i; 1]_c$, and $T_{\text{stack}}$ of size
+# $M_{i,\,j(d+1)+c} = w_{ij}\,[x_i; 1]_c$, and $T_{\text{stack}}$ of size
 # $m(d+1) \times d$. $A$ depends only on the rest pose and the weights: it is
 # computed **once**. Every new pose then costs a single dense product, $O(n\,m\,d^2)$
 # operations with no solve and no branching, which is why skinning runs in a GPU
@@ -83,7 +83,7 @@ rng = np.random.default_rng(5)
 #
 # **Your task.** `lbs_matrix(V, W)` returns $A$ (as a dense array). Build it
 # with broadcasting: an `(n, m, d+1)` array of
-# the products $w_{ij}[v_i;1]_c$ reshaped to `(n, m(d+1))`.
+# the products $w_{ij}[x_i;1]_c$ reshaped to `(n, m(d+1))`.
 
 # %% deformlab={"solution": "lbs_matrix"}
 import numpy as np
@@ -102,13 +102,13 @@ def lbs_matrix(V, W):
     Returns
     -------
     A : (n, m(d+1)) numpy.ndarray
-        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
+        ``A[i, j(d+1) + c] = W[i, j] · [x_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
     """
     ### BEGIN SOLUTION
     V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)
     n, m = W.shape
-    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [v_iᵀ 1]
-    # (n, m, d+1): w_ij [v_i; 1]_c, then the handles side by side
+    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [x_iᵀ 1]
+    # (n, m, d+1): w_ij [x_i; 1]_c, then the handles side by side
     return (W[:, :, None] * V_homogeneous[:, None, :]).reshape(n, -1)
     ### END SOLUTION
 
@@ -119,11 +119,11 @@ assert _A.shape == (1, 6), f"one vertex in 2D with two handles gives A of shape 
 assert np.allclose(_A, _expected), (
     f"for v = (1, 2) and w = (0.25, 0.75) the row is [w_1·(1, 2, 1), w_2·(1, 2, 1)] = {_expected.ravel().tolist()}, "
     f"got {np.round(_A, 6).ravel().tolist()}"
-    + (": the 1 goes last, [v_i; 1]" if np.allclose(_A, [[0.25, 0.25, 0.5, 0.75, 0.75, 1.5]]) else "")
+    + (": the 1 goes last, [x_i; 1]" if np.allclose(_A, [[0.25, 0.25, 0.5, 0.75, 0.75, 1.5]]) else "")
     + (": the 1 is weighted too, W[i, j]·1" if np.allclose(_A, [[0.25, 0.5, 1.0, 0.75, 1.5, 1.0]]) else "")
     + (": the columns go handle by handle, not coordinate by coordinate"
        if np.allclose(_A, [[0.25, 0.75, 0.5, 1.5, 0.25, 0.75]]) else "")
-    + (": the weight enters once, w_ij·[v_i; 1]" if np.allclose(_A, [[0.0625, 0.125, 0.0625, 0.5625, 1.125, 0.5625]]) else "")
+    + (": the weight enters once, w_ij·[x_i; 1]" if np.allclose(_A, [[0.0625, 0.125, 0.0625, 0.5625, 1.125, 0.5625]]) else "")
 )
 
 _V, _F = load_mesh("character")
@@ -158,7 +158,7 @@ assert _err.max() < 1e-10, (
 # * **one-hot rows move rigidly.** A vertex with $w_{ij} = 1$ (a handle vertex)
 #   follows $T_j$ exactly;
 # * **partition of unity reproduces rigid motions.** If $\sum_j w_{ij} = 1$ and
-#   every handle gets the same $T$, then $u_i = \sum_j w_{ij}\,T[v_i; 1] = T[v_i; 1]$:
+#   every handle gets the same $T$, then $x'_i = \sum_j w_{ij}\,T[x_i; 1] = T[x_i; 1]$:
 #   the whole shape moves by $T$, undistorted. Without it, even "move
 #   everything 1 cm to the left" would distort the shape.
 #
@@ -184,12 +184,12 @@ def lbs(V, W, T):
     Returns
     -------
     U : (n, d) numpy.ndarray
-        ``u_i = Σ_j W[i, j] T_j [v_i; 1]``.
+        ``x'_i = Σ_j W[i, j] T_j [x_i; 1]``.
     """
     ### BEGIN SOLUTION
     V, W, T = (np.asarray(x, dtype=float) for x in (V, W, T))
     V_homogeneous = np.hstack([V, np.ones((len(V), 1))])
-    moved = np.einsum("jdc,ic->ijd", T, V_homogeneous)  # T_j [v_i; 1] for every vertex and handle
+    moved = np.einsum("jdc,ic->ijd", T, V_homogeneous)  # T_j [x_i; 1] for every vertex and handle
     return np.einsum("ij,ijd->id", W, moved)  # blended with the weights
     ### END SOLUTION
 
@@ -217,7 +217,7 @@ _W /= _W.sum(axis=1, keepdims=True)
 _T = rng.normal(size=(_m, 2, 3))
 _U = lbs(_V, _W, _T)
 assert _U.shape == _V.shape, f"U must have the shape of V, {_V.shape}, got {_U.shape}"
-# u_i is linear in the transforms and in the weights
+# x'_i is linear in the transforms and in the weights
 _T2 = rng.normal(size=_T.shape)
 _err = np.linalg.norm(lbs(_V, _W, _T + 2 * _T2) - (_U + 2 * lbs(_V, _W, _T2)), axis=1)
 assert _err.max() < 1e-10, f"lbs must be linear in T: lbs(V, W, T + 2 T2) = lbs(V, W, T) + 2 lbs(V, W, T2); vertex {_err.argmax()} is off by {_err.max():.2e}"
@@ -422,16 +422,16 @@ plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
 # %% [markdown]
 # **Question.** Partition of unity makes LBS reproduce every common motion
 # (section 2). Does it also make LBS independent of where the origin is? Move
-# the rest shape by $c$ (so $v_i$ becomes $v_i + c$) and express every handle's
+# the rest shape by $c$ (so $x_i$ becomes $x_i + c$) and express every handle's
 # motion in the moved coordinates ($T_j$ becomes "move back by $c$, apply $T_j$,
 # move by $c$"): is the result the old deformed shape moved by $c$? Answer for
 # rows summing to one and for rows summing to $s_i \ne 1$.
 
 # %% [markdown] deformlab={"answer": "partition_of_unity", "points": 2}
-# In the moved frame the handle j maps v_i + c to T_j[v_i; 1] + c (the same
+# In the moved frame the handle j maps x_i + c to T_j[x_i; 1] + c (the same
 # motion, expressed around the new origin), so
-# u'_i = Σ_j w_ij (T_j[v_i; 1] + c) = u_i + s_i c with s_i = Σ_j w_ij. With rows
-# summing to one, u'_i = u_i + c: the deformation does not depend on where the
+# x̃′_i = Σ_j w_ij (T_j[x_i; 1] + c) = x′_i + s_i c with s_i = Σ_j w_ij. With rows
+# summing to one, x̃′_i = x′_i + c: the deformation does not depend on where the
 # origin is, as a deformation of a shape should not. With s_i ≠ 1 the result
 # moves by s_i c instead of c, differently at every vertex: the same pose of
 # the same shape gives different shapes depending on the coordinate frame the
@@ -482,7 +482,7 @@ plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
 # $$
 # \hat b_i = \sum_j w_{ij}\, s_j\, \hat q_j, \qquad
 # \hat c_i = \hat b_i / \lVert b_{i,0} \rVert, \qquad
-# u_i = T(\hat c_i)\,[v_i; 1].
+# x'_i = T(\hat c_i)\,[x_i; 1].
 # $$
 #
 # Every vertex moves by a **rigid** motion, whatever the weights: no shrinking.
