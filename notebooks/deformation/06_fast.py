@@ -229,13 +229,13 @@ def lbs_matrix(V, W):
     Returns
     -------
     A : (n, m(d+1)) numpy.ndarray
-        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
+        ``A[i, j(d+1) + c] = W[i, j] · [x_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
     """
     ### BEGIN SOLUTION
     V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)
     n, m = W.shape
-    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [v_iᵀ 1]
-    # (n, m, d+1): w_ij [v_i; 1]_c, then the handles side by side
+    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [x_iᵀ 1]
+    # (n, m, d+1): w_ij [x_i; 1]_c, then the handles side by side
     return (W[:, :, None] * V_homogeneous[:, None, :]).reshape(n, -1)
     ### END SOLUTION
 
@@ -250,13 +250,13 @@ _owner = _draw.integers(3, size=len(_V))
 _U = lbs_matrix(_V, np.eye(3)[_owner]) @ _T.transpose(0, 2, 1).reshape(-1, 2)
 assert np.allclose(_U, np.einsum("iab,ib->ia", _T[_owner, :, :2], _V) + _T[_owner, :, 2]), (
     "with one-hot weight rows, A @ vstack(T_jᵀ) must move each vertex by its own handle's transform"
-    + ("; the columns go handle by handle: the first three are w_i1·[v_i; 1]"
+    + ("; the columns go handle by handle: the first three are w_i1·[x_i; 1]"
        if not np.allclose(_A[:, :2], _W[:, :1] * _V)
        else "; the translation columns must hold w_ij·1, not 1" if not np.allclose(_A[:, 2::3], _W) else "")
 )
 assert np.allclose(lbs_matrix(_V, 2 * _W), 2 * _A), (
     "A is linear in W: doubling W doubles A"
-    + ("; the weight enters once, w_ij·[v_i; 1]" if np.allclose(lbs_matrix(_V, 2 * _W), 4 * _A) else "")
+    + ("; the weight enters once, w_ij·[x_i; 1]" if np.allclose(lbs_matrix(_V, 2 * _W), 4 * _A) else "")
 )
 
 # %% [markdown]
