@@ -237,14 +237,12 @@ for name in ["bar_coarse", "bar", "bar_fine"]:
 #
 # *Hints:*
 #
-# - `np.unique(sorted_edges, axis=0, return_counts=True)` on the $3f$ sorted
-#   half-edges tells you how many triangles use each edge;
-# - `scipy.sparse.csgraph.connected_components(A, directed=False)` counts the
-#   components of the graph with (sparse) adjacency matrix `A`;
-# - careful: a vertex with no edge is a component of its own. Build the graph on
-#   the boundary vertices only (renumber them, e.g. with
-#   `np.unique(..., return_inverse=True)`), or the interior vertices get counted
-#   as loops.
+# - how many triangles use each edge? `np.unique` can count repeated rows for
+#   you (see its `return_counts`);
+# - `scipy.sparse.csgraph.connected_components` counts the components of a
+#   graph given by its (sparse) adjacency matrix;
+# - careful: in such a graph a vertex with no edge is a component of its own,
+#   so the interior vertices must not be in it, or they get counted as loops.
 #
 # Counting boundary *edges* instead of loops is the classic mistake: the square
 # has four boundary edges but one boundary loop.
