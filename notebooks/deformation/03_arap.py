@@ -303,9 +303,10 @@ assert _C.shape == (len(_F), 3) and np.isfinite(_C).all(), f"expected finite wei
 # $\int \nabla\varphi_j \, dA = 0$ for a hat function that vanishes on the boundary.
 #
 # **Your task.** `cotangent_laplacian(V, F)` returns the `(n, n)` sparse matrix.
-# Build it from `cotangent_weights` in one go: list the `3f` (row, column, value)
-# triples of the edges in both directions, let `scipy.sparse.coo_matrix` (or
-# `csr_matrix`) sum the duplicates, then subtract the row sums on the diagonal.
+# Build it from `cotangent_weights` without a loop over triangles. A
+# `scipy.sparse.coo_matrix` built from (row, column, value) triples adds up
+# repeated entries, which is what an interior edge with two triangles needs;
+# the diagonal then follows from the rows summing to zero.
 
 # %% deformlab={"solution": "cotangent_laplacian"}
 import numpy as np
@@ -425,9 +426,9 @@ for _name in ("character", "bar_coarse"):
 # $e'_{tk}$ the same edge in `U` (orient them the same way; the sign then cancels).
 # Every triangle contributes the *same* matrix $\sum_k C_{tk}\, e_{tk} e'^\top_{tk}$
 # to each of its three corners: its spokes for two corners, its rim for the
-# third. Compute these `(f, d, d)` triangle matrices with one `np.einsum`, then
-# accumulate them at the corners (`np.add.at`, or a sparse `n × f` incidence
-# matrix times the matrices flattened to `(f, d²)`).
+# third. So compute one `(d, d)` matrix per triangle first, vectorized over the
+# triangles, and only then add each to its corners (mind that a vertex is a
+# corner of many triangles: plain fancy-index assignment would keep only one).
 # `arap_rotations(V, U, F, C)` is then the local step itself.
 
 # %% deformlab={"solution": "arap_covariances"}
