@@ -274,7 +274,8 @@ bones = character_handles["bones"]  # spine, left arm, right arm, left leg, righ
 W_bones = harmonic_weights(V, F, bones)
 print(f"character: {len(V)} vertices; weights in [{W_bones.min():.3g}, {W_bones.max():.3g}], "
       f"row sums within {np.abs(W_bones.sum(axis=1) - 1).max():.1e} of 1")
-plotting.show_weights(V, F, W_bones, handles=bones)
+plotting.show_weights(V, F, W_bones, handles=bones,
+                      titles=[f"harmonic: {name}" for name in ("spine", "left arm", "right arm", "left leg", "right leg")])
 
 joints = bone_joints(V, bones)  # each bone's first vertex
 
