@@ -1243,7 +1243,7 @@ plotting.show_meshes([(one_step, Fc), (six_steps, Fc)], titles=["180° in one st
 #
 # Both are stationary (the printed changes over the last 50 iterations), so
 # they are two different local minima, and the one-step result has the *lower*
-# energy (2.70 against 3.62): the energy only sees the surface, nothing in it
+# energy (2.703 against 3.625): the energy only sees the surface, nothing in it
 # protects the volume inside the bar, and pinching the neck is cheaper than
 # keeping it round. A lower energy is not a better answer to what the user
 # asked. Large rotations must be reached in steps, each starting from the last.
