@@ -209,6 +209,9 @@ class _Panel:
     out_of_range: bool = False
     colorbar: bool = False
     marks: list = field(default_factory=list)  # (indices, colour, size)
+    label: str | None = None  # what the colour bar measures
+    categories: tuple[str, ...] | None = None  # integer codes 0..k-1 named on the colour bar
+    view: np.ndarray | None = None  # 3D: direction from the centre to the camera
 
 
 def _mesh(V, F, name_V="V", name_F="F"):
@@ -278,9 +281,14 @@ def _bounds(panels: list[_Panel], link_views: bool) -> list[np.ndarray]:
 
 
 def _clim(p: _Panel):
+    if p.categories is not None:
+        return (-0.5, len(p.categories) - 0.5)
     if p.clim is not None:
         return p.clim
     lo, hi = float(p.scalars.min()), float(p.scalars.max())
+    # an end within round-off of 0 (a volume change of -7.65e-20) is printed as 0
+    scale = max(abs(lo), abs(hi))
+    lo, hi = (0.0 if abs(v) <= 1e-9 * scale else v for v in (lo, hi))
     return (lo, hi) if hi > lo else (lo - 0.5, hi + 0.5)
 
 
@@ -288,6 +296,8 @@ def _colormap(p: _Panel):
     import matplotlib
 
     cmap = matplotlib.colormaps[p.cmap]
+    if p.categories is not None:
+        return cmap.resampled(len(p.categories))  # one flat colour per category, no blend between them
     return cmap.with_extremes(under=_UNDER, over=_OVER) if p.out_of_range else cmap
 
 
@@ -314,13 +324,17 @@ def _pv_render(panels: list[_Panel], link_views: bool) -> np.ndarray:
         if p.scalars is None:
             pl.add_mesh(mesh, color=_FILL, **kwargs)
         else:
-            bar = dict(title=" ", color="black", vertical=False, n_labels=3, fmt="%.3g")
+            bar = dict(title=p.label or " ", color="black", vertical=False, n_labels=3, fmt="%.3g")
             if p.out_of_range:
                 bar.update(below_label="<0", above_label=">1")
+            if p.categories is not None:  # pyvista's bar has no tick names: the title lists the codes
+                bar.update(n_labels=0, title=(f"{p.label}: " if p.label else "")
+                           + ", ".join(f"{k} {name}" for k, name in enumerate(p.categories)))
             pl.add_mesh(
                 mesh,
                 scalars=p.scalars,
-                cmap=p.cmap,
+                cmap=_colormap(p) if p.categories is not None else p.cmap,
+                n_colors=len(p.categories) if p.categories is not None else 256,
                 clim=_clim(p),
                 below_color=_UNDER if p.out_of_range else None,
                 above_color=_OVER if p.out_of_range else None,
@@ -334,9 +348,10 @@ def _pv_render(panels: list[_Panel], link_views: bool) -> np.ndarray:
         if p.title:
             pl.add_text(p.title, position="upper_edge", font_size=10, color="black")
         centre = box.mean(axis=0)
+        direction = np.array([1.0, 1.0, 1.0]) if p.view is None else p.view
         pl.camera.focal_point = centre
-        pl.camera.position = centre + np.array([1.0, 1.0, 1.0])
-        pl.camera.up = (0.0, 0.0, 1.0)
+        pl.camera.position = centre + direction
+        pl.camera.up = _up(direction)
         pl.reset_camera(bounds=box.T.ravel())
         images.append(pl.screenshot(return_img=True)[..., :3])
     pl.clear()
@@ -373,12 +388,25 @@ def _figure_image(fig) -> np.ndarray:
     return np.asarray(canvas.buffer_rgba())[..., :3].copy()
 
 
+def _up(direction: np.ndarray) -> tuple[float, float, float]:
+    """z up, unless the camera looks along z: then y up."""
+    d = np.asarray(direction, dtype=float)
+    return (0.0, 1.0, 0.0) if abs(d[2]) > 0.99 * np.linalg.norm(d) else (0.0, 0.0, 1.0)
+
+
 def _mpl_render(panels: list[_Panel], link_views: bool, three_d: bool) -> np.ndarray:
     fig, axes = _figure(len(panels), "3d" if three_d else None)
     for ax, p, box in zip(axes, panels, _bounds(panels, link_views)):
         mappable = (_mpl_panel_3d if three_d else _mpl_panel_2d)(ax, p, box)
         if mappable is not None and p.colorbar:
-            fig.colorbar(mappable, ax=ax, shrink=0.6, extend="both" if p.out_of_range else "neither")
+            extend = "both" if p.out_of_range else "neither"
+            if p.categories is not None:
+                bar = fig.colorbar(mappable, ax=ax, shrink=0.6, ticks=range(len(p.categories)))
+                bar.ax.set_yticklabels(p.categories)
+            else:
+                bar = fig.colorbar(mappable, ax=ax, shrink=0.6, extend=extend)
+            if p.label:
+                bar.set_label(p.label)
         if p.title:
             ax.set_title(p.title, fontsize=10)
     return _figure_image(fig)
@@ -443,7 +471,9 @@ def _mpl_panel_3d(ax, p: _Panel, box: np.ndarray):
     ax.set_ylim(box[0, 1], box[1, 1])
     ax.set_zlim(box[0, 2], box[1, 2])
     ax.set_box_aspect(np.maximum(np.ptp(box, axis=0), 1e-3 * np.ptp(box, axis=0).max()))
-    ax.view_init(elev=35.26, azim=45.0)  # the same iso view as pyvista's
+    d = np.array([1.0, 1.0, 1.0]) if p.view is None else np.asarray(p.view, dtype=float)
+    # the same view as pyvista's: elevation and azimuth of the camera direction
+    ax.view_init(elev=np.degrees(np.arcsin(d[2] / np.linalg.norm(d))), azim=np.degrees(np.arctan2(d[1], d[0])))
     ax.set_axis_off()
     return mappable
 
@@ -457,7 +487,7 @@ def _marks(groups: list[np.ndarray], size: float = 9.0) -> list:
 # ---------------------------------------------------------------- public
 
 
-def show_mesh(V, F, scalars=None, handles=None, title=None, cmap="viridis"):
+def show_mesh(V, F, scalars=None, handles=None, title=None, cmap="viridis", label=None):
     """Picture of one mesh, optionally colour-mapped, with handle vertices marked.
 
     Parameters
@@ -473,6 +503,8 @@ def show_mesh(V, F, scalars=None, handles=None, title=None, cmap="viridis"):
     title : str, optional
     cmap : str
         A matplotlib colormap name.
+    label : str, optional
+        What the colours measure, written on the colour bar.
 
     Returns
     -------
@@ -484,7 +516,7 @@ def show_mesh(V, F, scalars=None, handles=None, title=None, cmap="viridis"):
         return None
     V, F = _mesh(V, F)
     panel = _Panel(V, F, title=title, scalars=_scalars(scalars, len(V), len(F)), cmap=cmap,
-                   marks=_marks(_handle_groups(handles, len(V))))
+                   marks=_marks(_handle_groups(handles, len(V))), label=label)
     panel.colorbar = panel.scalars is not None
     return _finish(_render([panel]))
 
@@ -520,7 +552,8 @@ def show_deformation(V, U, F, handles=None, titles=("rest", "deformed")):
     return _finish(_render([_Panel(V, F, title=titles[0], marks=marks), _Panel(U, F, title=titles[1], marks=marks)]))
 
 
-def show_meshes(meshes, titles=None, link_views=True):
+def show_meshes(meshes, titles=None, link_views=True, label=None, clim=None, cmap="viridis", categories=None,
+                view=None):
     """Several meshes side by side (e.g. poses), at most four per row.
 
     Parameters
@@ -531,6 +564,21 @@ def show_meshes(meshes, titles=None, link_views=True):
         One per mesh.
     link_views : bool
         Draw every mesh in the same box and view, so sizes compare.
+    label : str or sequence of str, optional
+        What the colours measure, written on the colour bar: one for all
+        meshes or one per mesh.
+    clim : (2,) sequence of float, optional
+        One colour range for every mesh with scalars, so colours compare
+        across panels (default: each panel its own minimum and maximum).
+    cmap : str
+        A matplotlib colormap name.
+    categories : sequence of str, optional
+        The scalars are integer codes ``0 .. k-1`` of these ``k`` categories
+        (e.g. ``("kept", "flipped")``): drawn in ``k`` flat colours, named on
+        the colour bar.
+    view : (3,) array_like of float, optional
+        3D only: the direction from the meshes' centre to the camera (default
+        ``(1, 1, 1)``, an isometric view); ``(0, 0, 1)`` looks down the z axis.
 
     Returns
     -------
@@ -544,22 +592,40 @@ def show_meshes(meshes, titles=None, link_views=True):
         raise ValueError("meshes must be a non-empty sequence of (V, F) or (V, F, scalars) tuples")
     if titles is not None and len(titles) != len(meshes):
         raise ValueError(f"titles must have one entry per mesh ({len(meshes)}), got {len(titles)}")
+    labels = [label] * len(meshes) if label is None or isinstance(label, str) else list(label)
+    if len(labels) != len(meshes):
+        raise ValueError(f"label must be one string or one per mesh ({len(meshes)}), got {len(labels)}")
+    if clim is not None:
+        clim = tuple(float(c) for c in np.asarray(clim, dtype=float).ravel())
+        if len(clim) != 2 or not clim[0] < clim[1]:
+            raise ValueError(f"clim must be two increasing numbers (low, high), got {clim}")
+    if categories is not None:
+        categories = tuple(str(c) for c in categories)
+        if len(categories) < 2:
+            raise ValueError(f"categories must name at least two categories, got {categories}")
+    if view is not None:
+        view = as_float_array(view, "view", ndim=1)
+        if view.shape != (3,) or not np.linalg.norm(view) > 0:
+            raise ValueError(f"view must be a non-zero 3-vector (the direction to the camera), got {view.tolist()}")
     panels = []
     for k, item in enumerate(meshes):
         if not isinstance(item, (tuple, list)) or len(item) not in (2, 3):
             raise ValueError(f"meshes[{k}] must be a tuple (V, F) or (V, F, scalars)")
         V, F = _mesh(item[0], item[1], f"meshes[{k}][0]", f"meshes[{k}][1]")
         s = _scalars(item[2], len(V), len(F), f"meshes[{k}][2]") if len(item) == 3 else None
-        panels.append(_Panel(V, F, title=None if titles is None else titles[k], scalars=s, colorbar=s is not None))
+        if s is not None and categories is not None and not np.isin(s, np.arange(len(categories))).all():
+            raise ValueError(f"meshes[{k}][2] must hold category codes 0..{len(categories) - 1}")
+        panels.append(_Panel(V, F, title=None if titles is None else titles[k], scalars=s, colorbar=s is not None,
+                             cmap=cmap, clim=clim, label=labels[k], categories=categories, view=view))
     return _finish(_render(panels, link_views))
 
 
-def show_weights(V, F, W, handles=None, columns=None, cmap="viridis"):
+def show_weights(V, F, W, handles=None, columns=None, cmap="viridis", titles=None, label="weight"):
     """One panel per weight column, colour-mapped on [0, 1].
 
     Values below 0 are magenta and above 1 red (beyond a 1e-6 round-off
-    margin), so a violated bound is visible; each panel's title gives its
-    column's minimum and maximum.
+    margin), so a violated bound is visible; each panel's title names it
+    (``titles``) and gives its column's minimum and maximum.
 
     Parameters
     ----------
@@ -575,6 +641,11 @@ def show_weights(V, F, W, handles=None, columns=None, cmap="viridis"):
         The columns to show (default: all).
     cmap : str
         A matplotlib colormap name.
+    titles : sequence of str, optional
+        One name per shown column, e.g. ``"BBW: left foot"`` (the method and
+        the handle); default ``"column j"``.
+    label : str
+        What the colour bar measures.
 
     Returns
     -------
@@ -594,10 +665,12 @@ def show_weights(V, F, W, handles=None, columns=None, cmap="viridis"):
     cols = list(range(m)) if columns is None else [int(c) for c in np.asarray(columns).ravel()]
     if not cols or min(cols) < 0 or max(cols) >= m:
         raise ValueError(f"columns must be non-empty column indices of W in [0, {m}), got {cols}")
+    if titles is not None and (isinstance(titles, str) or len(titles) != len(cols)):
+        raise ValueError(f"titles must have one entry per shown column ({len(cols)}), got {titles!r}")
     groups = _handle_groups(handles, len(V))
     per_column = len(groups) == m and m > 1
     panels = []
-    for j in cols:
+    for k, j in enumerate(cols):
         w = W[:, j]
         if per_column:
             others = [g for k, g in enumerate(groups) if k != j]
@@ -605,12 +678,13 @@ def show_weights(V, F, W, handles=None, columns=None, cmap="viridis"):
             marks = [(np.concatenate(others) if others else np.zeros(0, np.int64), "white", 7.0), (groups[j], "black", 9.0)]
         else:
             marks = [(g, "white", 7.0) for g in groups]
-        title = f"column {j}: min {w.min():.3g}, max {w.max():.3g}"
-        # Round-off just outside [0, 1] is drawn as 0 or 1, not as out of range.
+        # Round-off just outside [0, 1] is drawn (and printed) as 0 or 1, not as out of range.
         clipped = np.clip(w, 0.0, 1.0)
         shown = np.where(np.abs(w - clipped) <= _RANGE_TOL, clipped, w)
+        name = f"column {j}" if titles is None else titles[k]
+        title = f"{name}: min {shown.min() + 0.0:.3g}, max {shown.max():.3g}"
         panels.append(_Panel(V, F, title=title, scalars=shown, cmap=cmap, clim=(0.0, 1.0), out_of_range=True,
-                             colorbar=True, marks=marks))
+                             colorbar=True, marks=marks, label=label))
     return _finish(_render(panels))
 
 

@@ -84,10 +84,11 @@ plotting.show_meshes([(V_square, F_square), (V_ring, F_ring)], titles=["square",
 # with `i < j`, the rows sorted lexicographically (by `i`, then by `j`). Sorting
 # makes the answer unique, so that it can be compared.
 #
-# *Hint:* `F[:, [0, 1]]`, `F[:, [1, 2]]` and `F[:, [2, 0]]` stacked on top of each
-# other are the $3f$ directed edges; `np.sort(..., axis=1)` forgets their
-# direction and `np.unique(..., axis=0)` removes the duplicates and sorts the rows.
-# No Python loop over triangles is needed.
+# *Hint:* every triangle contributes three directed edges, and `F[:, [0, 1]]`
+# is the first of them for all triangles at once. Look up what
+# `np.sort(..., axis=1)` and `np.unique(..., axis=0)` do to the rows of an array:
+# which one forgets an edge's direction, which one removes repeated rows? No
+# Python loop over triangles is needed.
 #
 # A check you can do in your head: on a *closed* mesh every edge lies in exactly
 # two triangles and every triangle has three edges, so $2E = 3F$.
@@ -236,14 +237,12 @@ for name in ["bar_coarse", "bar", "bar_fine"]:
 #
 # *Hints:*
 #
-# - `np.unique(sorted_edges, axis=0, return_counts=True)` on the $3f$ sorted
-#   half-edges tells you how many triangles use each edge;
-# - `scipy.sparse.csgraph.connected_components(A, directed=False)` counts the
-#   components of the graph with (sparse) adjacency matrix `A`;
-# - careful: a vertex with no edge is a component of its own. Build the graph on
-#   the boundary vertices only (renumber them, e.g. with
-#   `np.unique(..., return_inverse=True)`), or the interior vertices get counted
-#   as loops.
+# - how many triangles use each edge? `np.unique` can count repeated rows for
+#   you (see its `return_counts`);
+# - `scipy.sparse.csgraph.connected_components` counts the components of a
+#   graph given by its (sparse) adjacency matrix;
+# - careful: in such a graph a vertex with no edge is a component of its own,
+#   so the interior vertices must not be in it, or they get counted as loops.
 #
 # Counting boundary *edges* instead of loops is the classic mistake: the square
 # has four boundary edges but one boundary loop.
@@ -384,31 +383,19 @@ _g = genus(_V2, _F2)
 assert _g == 1, f"a torus and a separate tetrahedron (chi = 2, b = 0, c = 2): expected genus 1, got {_g}"
 _g = genus(*load_mesh("ant"))
 assert _g == 0, (
-    f"the ant mesh (chi = 30, b = 0): expected genus 0, got {_g}"
-    + (": the ant is made of several separate closed pieces, count the components c" if _g < 0 else "")
+    f"the ant mesh: expected genus 0, got {_g}"
+    + (": a negative genus means c is too small; count the connected components c of the whole mesh" if _g < 0 else "")
 )
 
 # %% [markdown]
 # ## 5. The course meshes, counted
 #
-# Your functions, on the gallery from the top. Compare with your guesses.
-
-# %%
-print(f"{'mesh':>16} {'V':>6} {'E':>6} {'F':>6} {'chi':>4} {'b':>3} {'c':>3} {'g':>3}")
-for name in gallery:
-    V, F = load_mesh(name)
-    E = edges(F)
-    graph = sp.coo_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(len(V), len(V)))
-    components = connected_components(graph, directed=False)[0]
-    print(
-        f"{name:>16} {len(V):6d} {len(E):6d} {len(F):6d} {euler_characteristic(V, F):4d} "
-        f"{boundary_loop_count(F):3d} {components:3d} {genus(V, F):3d}"
-    )
-
-# %% [markdown]
-# **Question.** What does $\chi$ tell you about the nut, and what can it not tell
-# you? And why is the ant's $\chi = 30$, so far from the $2$ of a sphere?
-# Answer in a few sentences in the cell below.
+# **Question, before you count.** The nut is one closed surface with $\chi = 0$,
+# and the ant is closed too, with $\chi = 30$. What do these numbers tell you
+# about the nut, and what can they not tell you? How can a closed mesh have
+# $\chi = 30$, so far from the $2$ of a sphere, and what do you expect $c$ and $g$
+# of the ant to be? Answer in a few sentences in the cell below; the table after
+# it then counts everything for the gallery.
 
 # %% [markdown] deformlab={"answer": "nut", "points": 2}
 # The nut is one closed surface ($c = 1$, $b = 0$) with $\chi = 0$, so
@@ -421,3 +408,19 @@ for name in gallery:
 # pieces (body parts and limbs, each modelled on its own), each a topological sphere with
 # $\chi = 2$: $\chi = 2(c - g) - b = 2 \cdot 15 = 30$. $\chi$ adds up over
 # components, which is why $c$ belongs in the formula.
+
+# %% [markdown]
+# Your functions, on the gallery from the top. Compare with your guesses and
+# your answer.
+
+# %%
+print(f"{'mesh':>16} {'V':>6} {'E':>6} {'F':>6} {'chi':>4} {'b':>3} {'c':>3} {'g':>3}")
+for name in gallery:
+    V, F = load_mesh(name)
+    E = edges(F)
+    graph = sp.coo_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(len(V), len(V)))
+    components = connected_components(graph, directed=False)[0]
+    print(
+        f"{name:>16} {len(V):6d} {len(E):6d} {len(F):6d} {euler_characteristic(V, F):4d} "
+        f"{boundary_loop_count(F):3d} {components:3d} {genus(V, F):3d}"
+    )

@@ -32,6 +32,19 @@
 # Those tests are there to help you; your functions are graded on more inputs
 # than they show. Later cells use your earlier functions.
 
+# %% [markdown]
+# **Symbols.** The lecture's letters, plus the two this notebook adds (marked *new*):
+#
+# | symbol | meaning | in code |
+# |---|---|---|
+# | $p_i$, $q_i$ | corresponding source and target points | rows of `P`, `Q` `(k, d)` |
+# | $w_i$ (*new*) | the weight of pair $i$ (the lecture has all $w_i = 1$) | `w` `(k,)` |
+# | $\bar p$, $\bar q$ | (weighted) centroids | `centroid(P, w)` |
+# | $v_i = p_i - \bar p$, $v'_i = q_i - \bar q$ | centred points; the columns of $\mathbf V$, $\mathbf V'$ | rows of `P - centroid(P, w)`, … |
+# | $S$ (*new*) | $\sum_i w_i v_i {v'_i}^\top$, the lecture's $\mathbf V \mathbf V'^\top$ | `covariance_matrix(P, Q, w)` |
+# | $U \Sigma \tilde U^\top$ | the SVD of $S$ | `U_svd, sigma, U_tilde_T = np.linalg.svd(S)` |
+# | $R$, $t$ | the orthogonal map and the translation | `R`, `t` |
+
 # %%
 import numpy as np
 
@@ -143,27 +156,30 @@ assert np.allclose(_c, [3.0, 0.0]), (
 # ## 2. The rotation part: the covariance matrix
 #
 # Put $t = \bar q - R\bar p$ back into $E$. With the **centred** points
-# $\tilde p_i = p_i - \bar p$ and $\tilde q_i = q_i - \bar q$,
-# $R p_i + t - q_i = R \tilde p_i - \tilde q_i$, and expanding the square gives
+# $v_i = p_i - \bar p$ and $v'_i = q_i - \bar q$,
+# $R p_i + t - q_i = R v_i - v'_i$, and expanding the square gives
 #
-# $$E = \sum_i w_i \big(\tilde p_i^\top R^\top R\, \tilde p_i - 2\, \tilde q_i^\top R\, \tilde p_i + \tilde q_i^\top \tilde q_i\big)
-#     = \underbrace{\sum_i w_i \big(\lVert \tilde p_i \rVert^2 + \lVert \tilde q_i \rVert^2\big)}_{\text{independent of } R}
-#       \;-\; 2 \sum_i w_i\, \tilde q_i^\top R\, \tilde p_i,$$
+# $$E = \sum_i w_i \big(v_i^\top R^\top R\, v_i - 2\, {v'_i}^{\top} R\, v_i + {v'_i}^{\top} v'_i\big)
+#     = \underbrace{\sum_i w_i \big(\lVert v_i \rVert^2 + \lVert v'_i \rVert^2\big)}_{\text{independent of } R}
+#       \;-\; 2 \sum_i w_i\, {v'_i}^{\top} R\, v_i,$$
 #
 # because $R^\top R = I$. A number is its own trace and the trace is invariant
-# under cyclic permutations, so $\tilde q_i^\top R \tilde p_i = \operatorname{tr}(R\, \tilde p_i \tilde q_i^\top)$ and
+# under cyclic permutations, so ${v'_i}^{\top} R v_i = \operatorname{tr}(R\, v_i {v'_i}^{\top})$ and
 #
-# $$\sum_i w_i\, \tilde q_i^\top R\, \tilde p_i = \operatorname{tr}(R S), \qquad
-# S = \sum_i w_i\, \tilde p_i \tilde q_i^\top .$$
+# $$\sum_i w_i\, {v'_i}^{\top} R\, v_i = \operatorname{tr}(R S), \qquad
+# S = \sum_i w_i\, v_i {v'_i}^{\top} .$$
 #
 # **Minimizing $E$ over $R$ is maximizing $\operatorname{tr}(RS)$.** All that the
 # points tell about the best $R$ is in the $d \times d$ matrix $S$, however many
 # points there are.
 #
 # `covariance_matrix(P, Q, w=None)` returns $S$, shape `(d, d)`. Without a loop:
-# with the centred points as rows of $\tilde P$ and $\tilde Q$ and $W = \operatorname{diag}(w)$,
-# $S = \tilde P^\top W \tilde Q$ (multiply the rows by $w$ with broadcasting
-# rather than building $W$). Mind the order: $p$ on the left, $q$ on the right;
+# the lecture stacks the centred points as the *columns* of $\mathbf V$ and
+# $\mathbf V'$ ($d \times k$), and with $W = \operatorname{diag}(w)$ the weighted sum is
+# $S = \mathbf V W \mathbf V'^\top$ (the lecture's "covariance matrix" $\mathbf V \mathbf V'^\top$
+# when every $w_i = 1$). In numpy the points are rows, so the centred `P` is
+# $\mathbf V^\top$: multiply its rows by $w$ with broadcasting rather than
+# building $W$. Mind the order: $p$ on the left, $q$ on the right;
 # the transpose of $S$ is the covariance of the reverse problem, mapping $Q$ to $P$.
 
 # %% deformlab={"solution": "covariance_matrix"}
@@ -189,7 +205,7 @@ def covariance_matrix(P, Q, w=None):
     w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
     P_centred = P - centroid(P, w)
     Q_centred = Q - centroid(Q, w)
-    # Σ_i w_i p̃_i q̃_iᵀ as one matrix product: (w_i p̃_i) as columns times q̃_i as rows
+    # Σ_i w_i v_i v′_iᵀ as one matrix product: (w_i v_i) as columns times v′_i as rows
     return (w[:, None] * P_centred).T @ Q_centred
     ### END SOLUTION
 
@@ -201,7 +217,7 @@ _S = covariance_matrix(_P, _Q)
 assert np.shape(_S) == (2, 2), f"S is d x d = (2, 2) for points in 2D, whatever their number; got shape {np.shape(_S)}"
 assert np.allclose(_S, _expected), (
     f"P turned by 90 degrees: expected S = {_expected.tolist()}, got {np.round(_S, 6).tolist()}"
-    + (": that is the transpose, S = sum_i w_i p̃_i q̃_iᵀ has p on the left" if np.allclose(_S, _expected.T) else "")
+    + (": that is the transpose, S = sum_i w_i v_i v′_iᵀ has p on the left" if np.allclose(_S, _expected.T) else "")
     + (": S is a sum, not an average" if np.allclose(_S * len(_P), _expected) else "")
 )
 _S = covariance_matrix(_P + [5.0, -1.0], _Q + [10.0, 3.0])
@@ -215,7 +231,7 @@ _expected = np.array([[1.0, 0.5], [-2.0, -1.0]])
 _S = covariance_matrix(_P, _Q, _w)
 assert np.allclose(_S, _expected), (
     f"weights {_w.tolist()}: expected S = {_expected.tolist()}, got {np.round(_S, 6).tolist()}: "
-    "centre with the weighted centroids, and weight each term w_i p̃_i q̃_iᵀ once"
+    "centre with the weighted centroids, and weight each term w_i v_i v′_iᵀ once"
 )
 _S = covariance_matrix(_P, _Q, 2 * _w)
 assert np.allclose(_S, 2 * _expected), (
@@ -228,20 +244,21 @@ assert np.allclose(_S, 2 * _expected), (
 #
 # Take the singular value decomposition
 #
-# $$S = \tilde U \Sigma \tilde V^\top, \qquad \tilde U, \tilde V \text{ orthogonal}, \qquad
+# $$S = U \Sigma \tilde U^\top, \qquad U, \tilde U \text{ orthogonal}, \qquad
 # \Sigma = \operatorname{diag}(\sigma_1, \dots, \sigma_d), \quad \sigma_1 \ge \dots \ge \sigma_d \ge 0$$
 #
-# (the tildes keep the SVD's factors $\tilde U, \tilde V$ apart from the
-# positions `U` and `V` of a mesh). Then, using the
+# (the lecture's letters: $U$ is the left factor, $\tilde U$ the right one; in
+# code we call them `U_svd` and `U_tilde`, because `U` is the name of the
+# deformed positions from stage 03 on). Then, using the
 # cyclic invariance of the trace once more,
 #
-# $$\operatorname{tr}(R S) = \operatorname{tr}(R\, \tilde U \Sigma \tilde V^\top)
-# = \operatorname{tr}(\Sigma\, \tilde V^\top R\, \tilde U) = \operatorname{tr}(\Sigma M)
+# $$\operatorname{tr}(R S) = \operatorname{tr}(R\, U \Sigma \tilde U^\top)
+# = \operatorname{tr}(\Sigma\, \tilde U^\top R\, U) = \operatorname{tr}(\Sigma M)
 # = \sum_{i=1}^d \sigma_i\, m_{ii},
-# \qquad M = \tilde V^\top R\, \tilde U.$$
+# \qquad M = \tilde U^\top R\, U.$$
 #
 # $M$ is a product of orthogonal matrices, hence orthogonal, and every orthogonal
-# $M$ comes from exactly one $R = \tilde V M \tilde U^\top$: maximizing over $R$ is
+# $M$ comes from exactly one $R = \tilde U M U^\top$: maximizing over $R$ is
 # maximizing over $M$. The columns of an orthogonal matrix are unit vectors, so
 # $|m_{ii}| \le 1$ and, since $\sigma_i \ge 0$,
 #
@@ -249,7 +266,7 @@ assert np.allclose(_S, 2 * _expected), (
 #
 # The bound is reached by $M = I$, that is
 #
-# $$\boxed{R = \tilde V \tilde U^\top}$$
+# $$\boxed{R = \tilde U U^\top}$$
 #
 # When every $\sigma_i > 0$ it is the only maximizer (equality forces every
 # $m_{ii} = 1$, hence $M = I$). When $\sigma_d = 0$ (all points on a line in 2D,
@@ -257,14 +274,14 @@ assert np.allclose(_S, 2 * _expected), (
 # of them is a correct answer.
 #
 # `optimal_orthogonal(S)` returns $R$, shape `(d, d)`. Careful with numpy:
-# `U_tilde, sigma, V_tilde_T = np.linalg.svd(S)` returns
-# `S = U_tilde @ np.diag(sigma) @ V_tilde_T`, so its
-# third output is already $\tilde V^\top$. Mixing that up gives the transpose
-# $R^\top = \tilde U \tilde V^\top$, the best map from $Q$ back to $P$.
+# `U_svd, sigma, U_tilde_T = np.linalg.svd(S)` returns
+# `S = U_svd @ np.diag(sigma) @ U_tilde_T`, so its
+# third output is already $\tilde U^\top$. Mixing that up gives the transpose
+# $R^\top = U \tilde U^\top$, the best map from $Q$ back to $P$.
 #
 # Note what the derivation did **not** use: $\det R = +1$. Nothing stops
-# $\tilde V \tilde U^\top$ from being a reflection; that is the subject of stage 02.
-# Here, return $\tilde V \tilde U^\top$ as it is.
+# $\tilde U U^\top$ from being a reflection; that is the subject of stage 02.
+# Here, return $\tilde U U^\top$ as it is.
 
 # %% deformlab={"solution": "optimal_orthogonal"}
 import numpy as np
@@ -276,16 +293,16 @@ def optimal_orthogonal(S):
     Parameters
     ----------
     S : (d, d) array_like of float
-        A covariance matrix, ``S = Ũ Σ Ṽᵀ`` its SVD.
+        A covariance matrix, ``S = U Σ Ũᵀ`` its SVD.
 
     Returns
     -------
     R : (d, d) numpy.ndarray
-        ``R = Ṽ Ũᵀ``.
+        ``R = Ũ Uᵀ``.
     """
     ### BEGIN SOLUTION
-    U_tilde, sigma, V_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))  # S = Ũ Σ Ṽᵀ
-    return V_tilde_T.T @ U_tilde.T  # R = Ṽ Ũᵀ
+    U_svd, sigma, U_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))  # S = U Σ Ũᵀ
+    return U_tilde_T.T @ U_svd.T  # R = Ũ Uᵀ
     ### END SOLUTION
 
 # %% deformlab={"tests": "optimal_orthogonal", "points": 3}
@@ -297,7 +314,7 @@ assert np.allclose(_R.T @ _R, np.eye(2), atol=1e-10), f"R must be orthogonal, bu
 assert np.allclose(_R, _R90, atol=1e-10), (
     f"S comes from points turned by 90 degrees, so R should be {np.round(_R90, 6).tolist()}, "
     f"got {np.round(_R, 6).tolist()}"
-    + (": that is the transpose; R = Ṽ Ũᵀ and np.linalg.svd returns Ṽᵀ as its third output" if np.allclose(_R, _R90.T) else "")
+    + (": that is the transpose; R = Ũ Uᵀ and np.linalg.svd returns Ũᵀ as its third output" if np.allclose(_R, _R90.T) else "")
 )
 
 _S = np.random.default_rng(1).normal(size=(3, 3))
@@ -306,7 +323,7 @@ _best = np.linalg.svd(_S, compute_uv=False).sum()
 assert np.allclose(_R.T @ _R, np.eye(3), atol=1e-10), f"R must be orthogonal, but RᵀR = {np.round(_R.T @ _R, 6).tolist()}"
 assert np.isclose(np.trace(_R @ _S), _best, atol=1e-10), (
     f"tr(R S) = {np.trace(_R @ _S):.6f}, but the maximum over orthogonal R is the sum of the singular values "
-    f"of S, {_best:.6f}: check R = Ṽ Ũᵀ"
+    f"of S, {_best:.6f}: check R = Ũ Uᵀ"
 )
 
 _S = np.diag([3.0, 2.0, -1.0])
@@ -361,7 +378,7 @@ assert np.shape(_R) == (3, 3) and np.shape(_t) == (3,), (
 )
 assert np.allclose(_R, _R0, atol=1e-8), (
     f"Q is P moved rigidly by R0 = {np.round(_R0, 4).tolist()}: expected R = R0, got {np.round(_R, 4).tolist()}"
-    + (": that is R0ᵀ, check the order in S and R = Ṽ Ũᵀ" if np.allclose(_R, _R0.T, atol=1e-8) else "")
+    + (": that is R0ᵀ, check the order in S and R = Ũ Uᵀ" if np.allclose(_R, _R0.T, atol=1e-8) else "")
 )
 assert np.allclose(_t, _t0, atol=1e-8), (
     f"expected t = {_t0.tolist()}, got {np.round(_t, 6).tolist()}"
@@ -410,13 +427,13 @@ print(f"det R = {np.linalg.det(R):+.3f}; RMS distance to the mirrored target: {r
 plotting.show_points(P, Q_mirror, P @ R.T + t, title=f"mirrored target: det R = {np.linalg.det(R):+.0f}")
 
 # %% [markdown]
-# **Question.** When does the optimal orthogonal map $\tilde V \tilde U^\top$ turn out to
+# **Question.** When does the optimal orthogonal map $\tilde U U^\top$ turn out to
 # be a reflection ($\det = -1$)? Why is that bad when we use shape matching to
 # deform a shape (think of the local step of ARAP, which fits one such map to the
 # neighbourhood of every vertex)? Answer in a few sentences in the cell below.
 
 # %% [markdown] deformlab={"answer": "reflection", "points": 2}
-# $\det(\tilde V \tilde U^\top) = -1$ whenever a mirror image explains the data at least as
+# $\det(\tilde U U^\top) = -1$ whenever a mirror image explains the data at least as
 # well as any rotation: (1) the target really is (close to) a mirror image of the
 # source, e.g. a neighbourhood that was flipped or folded over; (2) the data are
 # degenerate, all points on a line in 2D or in a plane in 3D: then
@@ -425,8 +442,8 @@ plotting.show_points(P, Q_mirror, P @ R.T + t, title=f"mirrored target: det R = 
 # of $\det$, is an accident of the SVD; (3) nearly degenerate data plus noise (or
 # a large deformation), where $\sigma_d$ is tiny and the noise decides the sign.
 # It is bad for deformation because a reflection is not a motion of a physical
-# body: it turns the local frame inside out. Where a mirror image really fits
-# better (case 1, and every non-flat cell), ARAP's local step would ask the
+# body: it turns the local frame inside out. Where the mirror image really fits
+# better (case 1, for a cell that is not flat), ARAP's local step would ask the
 # global step to make the neighbourhood a mirror image of its rest shape:
 # flipped (inverted) triangles and folds. For a flat cell (case 2: a planar
 # neighbourhood of a surface in 3D) the mirror across the cell's own plane leaves

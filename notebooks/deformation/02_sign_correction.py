@@ -17,8 +17,8 @@
 #
 # $$E(R, t) = \sum_i w_i \,\lVert R p_i + t - q_i \rVert^2 :$$
 #
-# $t = \bar q - R \bar p$, and $R = \tilde V \tilde U^\top$ maximizes $\operatorname{tr}(RS)$,
-# where $S = \sum_i w_i\, \tilde p_i \tilde q_i^\top = \tilde U \Sigma \tilde V^\top$ is the
+# $t = \bar q - R \bar p$, and $R = \tilde U U^\top$ maximizes $\operatorname{tr}(RS)$,
+# where $S = \sum_i w_i\, v_i {v'_i}^{\top} = U \Sigma \tilde U^\top$ is the
 # covariance matrix of the centred points. That $R$ is orthogonal, and it may be a
 # **reflection**, $\det R = -1$. A deformation needs **rotations**
 # ($R^\top R = I$ and $\det R = +1$). This notebook finds out when the reflection
@@ -124,7 +124,7 @@ def covariance_matrix(P, Q, w=None):
     w = np.ones(len(P)) if w is None else np.asarray(w, dtype=float)
     P_centred = P - centroid(P, w)
     Q_centred = Q - centroid(Q, w)
-    # Σ_i w_i p̃_i q̃_iᵀ as one matrix product: (w_i p̃_i) as columns times q̃_i as rows
+    # Σ_i w_i v_i v′_iᵀ as one matrix product: (w_i v_i) as columns times v′_i as rows
     return (w[:, None] * P_centred).T @ Q_centred
     ### END SOLUTION
 
@@ -146,20 +146,20 @@ assert np.allclose(_S, [[2.0, 1.0], [-4.0, -2.0]]), (
 # %% [markdown]
 # ## 1. When is the best orthogonal map a reflection?
 #
-# $\det(\tilde V \tilde U^\top) = \det \tilde V \det \tilde U = \pm 1$, and which sign comes out
+# $\det(\tilde U U^\top) = \det \tilde U \det U = \pm 1$, and which sign comes out
 # depends on the data:
 #
 # - **Mirrored data.** If the target is (close to) a mirror image of the source,
 #   the reflection simply fits better than any rotation. You saw it in stage 01
 #   with the mirrored character.
 # - **Degenerate data.** Suppose all source points lie in a plane with unit normal
-#   $n$ (3D), or on a line (2D, with $n$ its normal). Then $\tilde p_i^\top n = 0$,
-#   so $S^\top n = \sum_i w_i\, \tilde q_i (\tilde p_i^\top n) = 0$: $S$ is singular,
+#   $n$ (3D), or on a line (2D, with $n$ its normal). Then $v_i^\top n = 0$,
+#   so $S^\top n = \sum_i w_i\, v'_i (v_i^\top n) = 0$: $S$ is singular,
 #   $\sigma_d = 0$, and $n$ is its last left singular vector (up to sign). The
 #   mirror across that plane (or line), $H = I - 2 n n^\top$, fixes every
-#   $\tilde p_i$, so $R$ and $R H$ move the points identically and fit equally
+#   $v_i$, so $R$ and $R H$ move the points identically and fit equally
 #   well, yet $\det(RH) = -\det R$. The SVD has to pick a sign for the singular vectors of
-#   $\sigma_d = 0$, and nothing in the data prefers one: $\det(\tilde V \tilde U^\top)$ is
+#   $\sigma_d = 0$, and nothing in the data prefers one: $\det(\tilde U U^\top)$ is
 #   an accident of the algorithm.
 # - **Noise.** Nearly degenerate data (a flat patch of a surface, a thin
 #   neighbourhood) have a tiny $\sigma_d$, and a little noise, or a large
@@ -187,7 +187,7 @@ for label, R_candidate in [("R0    ", R0), ("R0 H  ", R0 @ H)]:
 # %% [markdown]
 # And noise: give the flat character a thickness of about $0.001$ (it is about
 # $2$ tall), move it by $R_0$, perturb the targets, and count how often the best
-# orthogonal map $\tilde V \tilde U^\top$ comes out as a reflection.
+# orthogonal map $\tilde U U^\top$ comes out as a reflection.
 
 # %%
 P_thin = P3 + np.column_stack([np.zeros((len(P3), 2)), 0.001 * rng.standard_normal(len(P3))])
@@ -196,8 +196,8 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
     reflections = 0
     for trial in range(trials):
         Q_noisy = P_thin @ R0.T + noise * rng.standard_normal(P_thin.shape)
-        U_tilde, sigma, V_tilde_T = np.linalg.svd(covariance_matrix(P_thin, Q_noisy))
-        reflections += np.linalg.det(V_tilde_T.T @ U_tilde.T) < 0
+        U_svd, sigma, U_tilde_T = np.linalg.svd(covariance_matrix(P_thin, Q_noisy))
+        reflections += np.linalg.det(U_tilde_T.T @ U_svd.T) < 0
     print(f"noise {noise:5.3f}: sigma_3 = {sigma[2]:.1e}, a reflection in {reflections / trials:4.0%} of {trials} trials")
 
 # %% [markdown]
@@ -205,11 +205,11 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
 #
 # We now maximize $\operatorname{tr}(RS)$ over rotations only. As in stage 01,
 # write $\operatorname{tr}(RS) = \operatorname{tr}(\Sigma M) = \sum_i \sigma_i m_{ii}$
-# with $M = \tilde V^\top R\, \tilde U$. For a rotation,
+# with $M = \tilde U^\top R\, U$. For a rotation,
 #
-# $$\det M = \det \tilde V^\top \det R \det \tilde U = \det(\tilde V \tilde U^\top) =: s .$$
+# $$\det M = \det \tilde U^\top \det R \det U = \det(\tilde U U^\top) =: s .$$
 #
-# **If $s = +1$**, $M = I$ is allowed, and $R = \tilde V \tilde U^\top$ is already a
+# **If $s = +1$**, $M = I$ is allowed, and $R = \tilde U U^\top$ is already a
 # rotation: nothing to correct.
 #
 # **If $s = -1$**, we must maximize $\sum_i \sigma_i m_{ii}$ over orthogonal $M$
@@ -228,11 +228,11 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
 # The bound is reached by $M = \operatorname{diag}(1, \dots, 1, -1)$. Both cases
 # together:
 #
-# $$\boxed{R = \tilde V \operatorname{diag}\big(1, \dots, 1, \det(\tilde V \tilde U^\top)\big)\, \tilde U^\top}$$
+# $$\boxed{R = \tilde U \operatorname{diag}\big(1, \dots, 1, \det(\tilde U U^\top)\big)\, U^\top}$$
 #
 # In words: **flip the sign of the singular vector of the smallest singular value**
-# (the last column of $\tilde V$; flipping the last column of $\tilde U$ instead gives the
-# same $R$). Compared with the best orthogonal map, $\operatorname{tr}(RS)$ drops
+# (the last column of $U$, as the lecture says; flipping the last column of
+# $\tilde U$ instead gives the same $R$). Compared with the best orthogonal map, $\operatorname{tr}(RS)$ drops
 # by $2\sigma_d$, the least any rotation can lose: flipping the direction of
 # $\sigma_i$ instead would lose $2\sigma_i \ge 2\sigma_d$. In the degenerate case
 # $\sigma_d = 0$ the correction costs nothing at all: it just picks, of the two
@@ -256,22 +256,22 @@ def optimal_rotation(S):
     Parameters
     ----------
     S : (d, d) or (k, d, d) array_like of float
-        Covariance matrix or matrices, ``S = Ũ Σ Ṽᵀ``.
+        Covariance matrix or matrices, ``S = U Σ Ũᵀ``.
 
     Returns
     -------
     R : numpy.ndarray, the shape of ``S``
-        ``R = Ṽ diag(1, …, 1, det(Ṽ Ũᵀ)) Ũᵀ``: orthogonal with ``det R = +1``.
+        ``R = Ũ diag(1, …, 1, det(Ũ Uᵀ)) Uᵀ``: orthogonal with ``det R = +1``.
     """
     ### BEGIN SOLUTION
     # np.linalg.svd and det act on the last two axes, so one code path serves (d, d) and (k, d, d).
-    U_tilde, sigma, V_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))
-    V_tilde = np.swapaxes(V_tilde_T, -1, -2).copy()
-    U_tilde_T = np.swapaxes(U_tilde, -1, -2)
-    sign = np.where(np.linalg.det(V_tilde @ U_tilde_T) < 0, -1.0, 1.0)  # -1 where Ṽ Ũᵀ is a reflection
-    # Flip the singular vector of the smallest singular value (numpy's last column): the cheapest fix.
-    V_tilde[..., -1] *= sign[..., None]
-    return V_tilde @ U_tilde_T
+    U_svd, sigma, U_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))  # S = U Σ Ũᵀ
+    U_tilde = np.swapaxes(U_tilde_T, -1, -2)
+    sign = np.where(np.linalg.det(U_tilde @ np.swapaxes(U_svd, -1, -2)) < 0, -1.0, 1.0)  # -1 where Ũ Uᵀ is a reflection
+    # Flip the column of U of the smallest singular value (numpy's last column): the cheapest fix.
+    U_svd = U_svd.copy()
+    U_svd[..., -1] *= sign[..., None]
+    return U_tilde @ np.swapaxes(U_svd, -1, -2)  # R = Ũ D Uᵀ
     ### END SOLUTION
 
 # %% deformlab={"tests": "optimal_rotation", "points": 4}
@@ -292,7 +292,7 @@ _S = np.diag([3.0, 2.0, 0.0])
 _R = optimal_rotation(_S)
 assert np.allclose(_R.T @ _R, np.eye(3), atol=1e-10) and abs(np.linalg.det(_R) - 1) < 1e-8, (
     f"S = diag(3, 2, 0) is singular (coplanar points): R must still be a rotation, got {np.round(_R, 6).tolist()}"
-    + (": det(S) = 0 says nothing about the sign; take it from det(Ṽ Ũᵀ)" if abs(np.linalg.det(_R)) < 1e-8 else "")
+    + (": det(S) = 0 says nothing about the sign; take it from det(Ũ Uᵀ)" if abs(np.linalg.det(_R)) < 1e-8 else "")
 )
 
 _S = np.array([[0.0, 2.0], [-8.0, 0.0]])  # points turned by 90 degrees: no correction needed
@@ -300,12 +300,12 @@ _R = optimal_rotation(_S)
 assert np.allclose(_R, rotation_2d(np.pi / 2), atol=1e-10), (
     f"S = [[0, 2], [-8, 0]] comes from points turned by 90 degrees: expected R = [[0, -1], [1, 0]], "
     f"got {np.round(_R, 6).tolist()}"
-    + (": that is the transpose; R = Ṽ D Ũᵀ, and np.linalg.svd's third output is already Ṽᵀ"
+    + (": that is the transpose; R = Ũ D Uᵀ, and np.linalg.svd's third output is already Ũᵀ"
        if np.allclose(_R, rotation_2d(np.pi / 2).T, atol=1e-10) else "")
 )
 
 _S = np.array([[0.3, -1.2, 0.5], [0.9, 0.4, -0.7], [-0.2, 0.8, 0.6]])
-_S = _S * np.array([1.0, 1.0, -1.0])  # det S < 0, so det(Ṽ Ũᵀ) = -1: the sign needs correcting
+_S = _S * np.array([1.0, 1.0, -1.0])  # det S < 0, so det(Ũ Uᵀ) = -1: the sign needs correcting
 _sigma = np.linalg.svd(_S, compute_uv=False)
 _R = optimal_rotation(_S)
 assert np.allclose(_R.T @ _R, np.eye(3), atol=1e-10), f"R must be orthogonal, but RᵀR = {np.round(_R.T @ _R, 6).tolist()}"
@@ -313,13 +313,20 @@ assert abs(np.linalg.det(_R) - 1) < 1e-8, f"det(R) = {np.linalg.det(_R):.6f}, a 
 assert np.isclose(np.trace(_R @ _S), _sigma[0] + _sigma[1] - _sigma[2], atol=1e-10), (
     f"tr(R S) = {np.trace(_R @ _S):.6f}, but the best rotation reaches sigma_1 + sigma_2 - sigma_3 = "
     f"{_sigma[0] + _sigma[1] - _sigma[2]:.6f}: "
-    + ("you return the transpose of the best rotation (Rᵀ reaches it); R = Ṽ D Ũᵀ"
+    + ("you return the transpose of the best rotation (Rᵀ reaches it); R = Ũ D Uᵀ"
        if np.isclose(np.trace(_R.T @ _S), _sigma[0] + _sigma[1] - _sigma[2], atol=1e-10)
-       else "flip the singular vector of the smallest singular value (numpy's last), and check R = Ṽ D Ũᵀ")
+       else "flip the singular vector of the smallest singular value (numpy's last), and check R = Ũ D Uᵀ")
 )
 
 _stack = np.random.default_rng(3).normal(size=(6, 3, 3))
-_R = optimal_rotation(_stack)
+try:
+    _R = optimal_rotation(_stack)
+except Exception as _exc:  # noqa: BLE001 - a single-matrix code path fails on a stack with numpy's own words
+    raise AssertionError(
+        f"optimal_rotation fails on a stack of shape {np.shape(_stack)}: {type(_exc).__name__}: {_exc}. It must take a stack "
+        "(k, d, d) as well as one matrix: np.linalg.svd and det act on the last two axes, so transpose with "
+        "np.swapaxes(A, -1, -2) instead of .T, index the last column with [..., -1] and multiply it by sign[..., None]"
+    ) from None
 assert np.shape(_R) == (6, 3, 3), f"a stack of 6 matrices (6, 3, 3) must give a stack of 6 rotations, got shape {np.shape(_R)}"
 for _i in range(len(_stack)):
     _sigma = np.linalg.svd(_stack[_i], compute_uv=False)
@@ -332,7 +339,7 @@ _R = optimal_rotation(np.stack([np.diag([2.0, -1.0]), np.diag([2.0, 1.0])]))
 assert np.shape(_R) == (2, 2, 2) and np.allclose(_R, np.eye(2), atol=1e-10), (
     f"the stack [diag(2, -1), diag(2, 1)] must give two identities, got {np.round(_R, 6).tolist()}"
 )
-# Singular S whose SVD gives det(Ṽ Ũᵀ) = -1: the flip is needed although det(S) = 0.
+# Singular S whose SVD gives det(Ũ Uᵀ) = -1: the flip is needed although det(S) = 0.
 for _axis, _angle in [([1.0, -2.0, 0.5], 2.0), ([0.0, 1.0, 1.0], 0.7), ([2.0, 1.0, -1.0], 1.3)]:
     _B = rotation_3d(_axis, _angle)
     _S = np.diag([3.0, 0.0, 2.0]) @ _B.T  # coplanar points; the zero row makes det(S) exactly 0
@@ -340,8 +347,8 @@ for _axis, _angle in [([1.0, -2.0, 0.5], 2.0), ([0.0, 1.0, 1.0], 0.7), ([2.0, 1.
     assert np.allclose(_R, _B, atol=1e-10), (
         f"S = diag(3, 0, 2) Bᵀ (B a rotation) is singular, and its best rotation is B itself (tr(B S) = 5); got R "
         f"with det {np.linalg.det(_R):.6f} and tr(R S) = {np.trace(_R @ _S):.6f}"
-        + (": det(S) = 0 says nothing about the sign; take it from det(Ṽ Ũᵀ), which is -1 here"
-           if abs(np.linalg.det(_R) - 1) > 1e-8 else ": that is Bᵀ, the transpose; R = Ṽ D Ũᵀ" if np.allclose(_R, _B.T) else "")
+        + (": det(S) = 0 says nothing about the sign; take it from det(Ũ Uᵀ), which is -1 here"
+           if abs(np.linalg.det(_R) - 1) > 1e-8 else ": that is Bᵀ, the transpose; R = Ũ D Uᵀ" if np.allclose(_R, _B.T) else "")
     )
 
 # %% [markdown]
@@ -386,7 +393,7 @@ _R, _t = _out
 assert np.allclose(_R, _R0, atol=1e-8) and np.allclose(_t, _t0, atol=1e-8), (
     f"Q is P rotated by R0 and translated by t0: expected (R0, t0), got R = {np.round(_R, 4).tolist()}, "
     f"t = {np.round(_t, 4).tolist()}"
-    + (": R is R0 transposed; is S built as Σ w p̃ q̃ᵀ (P first), and R = Ṽ D Ũᵀ?" if np.allclose(_R, _R0.T, atol=1e-8)
+    + (": R is R0 transposed; is S built as Σ w v v′ᵀ (P first), and R = Ũ D Uᵀ?" if np.allclose(_R, _R0.T, atol=1e-8)
        else ": R is right, so check t = q̄ - R p̄" if np.allclose(_R, _R0, atol=1e-8) else "")
 )
 
@@ -429,35 +436,39 @@ assert np.allclose(_R, _R0, atol=1e-8) and np.allclose(_t, _t0, atol=1e-8), (
 # %%
 size = np.linalg.norm(P2.max(axis=0) - P2.min(axis=0))
 Q_mirror = P2 * np.array([-1.0, 1.0]) + np.array([1.2, 0.0]) * size
-U_tilde, sigma, V_tilde_T = np.linalg.svd(covariance_matrix(P2, Q_mirror))
-R_orth = V_tilde_T.T @ U_tilde.T
+U_svd, sigma, U_tilde_T = np.linalg.svd(covariance_matrix(P2, Q_mirror))
+R_orth = U_tilde_T.T @ U_svd.T
 t_orth = Q_mirror.mean(axis=0) - R_orth @ P2.mean(axis=0)
 R, t = rigid_align(P2, Q_mirror)
 print(f"singular values of S: {sigma}")
-print(f"best orthogonal map: det = {np.linalg.det(R_orth):+.0f}, tr(R S) = {np.trace(R_orth @ U_tilde @ np.diag(sigma) @ V_tilde_T):.4f}")
-print(f"best rotation:       det = {np.linalg.det(R):+.0f}, tr(R S) = {np.trace(R @ U_tilde @ np.diag(sigma) @ V_tilde_T):.4f}"
+print(f"best orthogonal map: det = {np.linalg.det(R_orth):+.0f}, tr(R S) = {np.trace(R_orth @ U_svd @ np.diag(sigma) @ U_tilde_T):.4f}")
+print(f"best rotation:       det = {np.linalg.det(R):+.0f}, tr(R S) = {np.trace(R @ U_svd @ np.diag(sigma) @ U_tilde_T):.4f}"
       f"  (= sigma_1 - sigma_2 = {sigma[0] - sigma[1]:.4f})")
 plotting.show_points(P2, Q_mirror, P2 @ R_orth.T + t_orth, title="best orthogonal map: a reflection, det = -1")
 plotting.show_points(P2, Q_mirror, P2 @ R.T + t, title="best rotation: det = +1")
 
 # %% [markdown]
-# **Question.** In the noise experiment of §1, the best orthogonal map of the thin
-# character comes out as a reflection in many trials, and then the sign
-# correction changes $R$. How much does the correction cost in those trials
-# compared with the fit itself, and why can $R$ nevertheless change a lot? What
-# goes wrong when *two* singular values vanish (all points on a line in 3D), and
-# does the sign correction help there?
+# **Question.** A classmate corrects a reflection differently: whenever
+# $\det(\tilde U U^\top) = -1$, return $-\tilde U U^\top$ instead. In 3D, is that a
+# rotation? How much of $\operatorname{tr}(RS)$ does it give up compared with
+# flipping the smallest singular direction, and what does it do to the thin
+# character of §1 in a trial where the SVD came out a reflection?
+# Does the trick work in 2D? Finally: what goes wrong when *two* singular values
+# vanish (all points on a line in 3D), and does either correction help there?
 
 # %% [markdown] deformlab={"answer": "least_costly_flip", "points": 2}
-# The correction costs 2σ_3 of tr(RS), so E grows by 4σ_3 (E = const − 2 tr(RS)).
-# For the thin character σ_3 is of the order of the thickness times the noise,
-# tiny against σ_1 and σ_2, so the corrected fit is practically as good. R itself
-# changes by a mirror across the (nearly) common plane of the points: R becomes
-# R H, which sends the plane's normal to its opposite. That is a large change of
-# the matrix, but in the one direction the data hardly constrain, which is why
-# the fit barely notices. With σ_2 = σ_3 = 0 (collinear points in 3D) every
-# rotation about the line fits equally well: the best rotation is not unique, a
-# whole circle of maximizers, and the SVD picks one of them arbitrarily. The sign
-# correction still returns a rotation (det = +1), but it cannot make the answer
+# In 3D, det(−M) = (−1)³ det M = +1, so −Ũ Uᵀ is a rotation, but the worst one:
+# tr(−Ũ Uᵀ S) = −(σ_1 + σ_2 + σ_3), the minimum over all orthogonal maps, against
+# σ_1 + σ_2 − σ_3 for the flip of the smallest direction: it gives up
+# 2(σ_1 + σ_2) more. For the thin character, whose best orthogonal map is
+# R_0 H (H the mirror across its plane, normal n), −R_0 H = R_0 (2 n nᵀ − I) is R_0
+# followed by a half turn about n: the points are spun by 180° in their own plane
+# and land on the opposite side of the centroid, far from their targets, while
+# the correct flip costs only 2σ_3 (σ_3 tiny, of the order of the
+# thickness times the noise). In 2D det(−M) = det M = −1: the "correction" is
+# still a reflection and fixes nothing. With σ_2 = σ_3 = 0 (collinear points in
+# 3D) every rotation about the line fits equally well: a whole circle of
+# maximizers, and the SVD picks one of them arbitrarily. The sign correction
+# still returns a rotation (det = +1), but no correction can make the answer
 # unique; a method that needs R there (ARAP on a degenerate cell) must get the
 # missing information elsewhere, e.g. from neighbouring cells or a previous R.

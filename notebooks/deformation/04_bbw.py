@@ -14,7 +14,7 @@
 # # 04 · Bounded biharmonic weights
 #
 # Linear blend skinning (stage 05) moves every vertex by a blend of the handles'
-# transformations, $u = \sum_j w_j(v)\, T_j [v; 1]$. The pose is only the $m$
+# transformations, $x' = \sum_j w_j(x)\, T_j [x; 1]$. The pose is only the $m$
 # transformations; everything the shape "knows" about how it bends is in the
 # **weight functions** $w_j$, one per handle, computed once on the rest shape.
 # What should they look like?
@@ -329,7 +329,7 @@ assert np.array_equal(_bc.sum(axis=1), np.ones(len(_b))), "every row of bc must 
 # inverse-distance weights for handle points $h_j$,
 #
 # $$
-# w_j(v) = \frac{\|v - h_j\|^{-p}}{\sum_k \|v - h_k\|^{-p}} ,
+# w_j(x) = \frac{\|x - h_j\|^{-p}}{\sum_k \|x - h_k\|^{-p}} ,
 # $$
 #
 # with $w_j(h_j) = 1$ as the limit. They are positive and a partition of unity,
@@ -369,7 +369,7 @@ def inverse_distance_weights(V, handle_points, power=2):
     Returns
     -------
     W : (n, m) numpy.ndarray
-        ``W[i, j] ∝ ‖v_i - h_j‖^-power``, rows summing to 1; a vertex within 1e-12 of a
+        ``W[i, j] ∝ ‖x_i - h_j‖^-power``, rows summing to 1; a vertex within 1e-12 of a
         handle point gets that handle's one-hot row.
     """
     ### BEGIN SOLUTION
@@ -406,8 +406,41 @@ assert np.allclose(_W[_points], np.eye(len(_points))), "a vertex at a handle poi
 V, F = load_mesh("character")
 character_handles = load_handles("character")
 points = character_handles["points"]  # head top, left hand, right hand, left foot, right foot
+point_names = ["head", "left hand", "right hand", "left foot", "right foot"]
 W_idw = inverse_distance_weights(V, V[points])
-plotting.show_weights(V, F, W_idw, handles=points)
+plotting.show_weights(V, F, W_idw, handles=points, titles=[f"inverse distance: {name}" for name in point_names])
+
+# %% [markdown]
+# **The fall-off.** The lecture: "inverse distance methods inherently suffer from
+# the fall-off effect", every weight "approaching" the same value far from the
+# handles. **Predict first.** Far from all $m = 5$ handles, what value does each
+# inverse-distance weight approach, and how fast does the largest difference
+# from it shrink with the distance $r$: like $1/r$, like $1/r^2$, or
+# exponentially? Below, the points lie on a ray from the character's centre,
+# $r$ = 1 to 64 times its height away.
+
+# %%
+centre, height = V.mean(axis=0), np.ptp(V[:, 1])
+direction = np.array([1.0, 0.3]) / np.linalg.norm([1.0, 0.3])
+m = len(points)
+for r in (1, 4, 16, 64):
+    w = inverse_distance_weights(centre + r * height * direction[None, :], V[points])[0]
+    spread = np.abs(w - 1 / m).max()
+    print(f"r = {r:2d} heights: weights {np.round(w, 4).tolist()}, largest |w_j - 1/m| = {spread:.5f}, "
+          f"r × that = {r * spread:.4f}")
+inside = inverse_distance_weights(V, V[points]).max(axis=1)
+print(f"on the character itself, {np.mean(inside < 0.5):.0%} of the vertices have no weight above 0.5 "
+      f"(the least dominated vertex: largest weight {inside.min():.3f}, against 1/m = {1 / m:.3f})")
+
+# %% [markdown]
+# Every weight tends to $1/m = 0.2$, and slowly: $r$ times the largest
+# difference levels off (the last column), so the difference shrinks like
+# $1/r$. Expanding $\|x - h_j\|^{-2}$ for $\|x\| = r$ much larger than the handles'
+# spread gives $w_j \approx \frac1m + \frac2m\,\frac{\hat x \cdot (h_j - \bar h)}{r}$
+# ($\hat x$ the direction, $\bar h$ the handles' mean): the leading correction
+# is of order $1/r$. A part of a shape far from every handle therefore moves
+# with the *average* of all handle transformations, whatever the shape, and
+# already on the character a third of the vertices have no weight above 0.5.
 
 # %% [markdown]
 # ## 5 · Unconstrained biharmonic weights
@@ -486,7 +519,7 @@ assert _W.min() < -1e-3, "these weights should go negative somewhere (the lobes)
 # ## 6 · Bounded biharmonic weights
 #
 # Why do negative weights matter? Translate handle $j$ by $t$ and leave the
-# others: every vertex moves by $w_j(v)\,t$. Where $w_j < 0$ the vertex moves
+# others: every vertex moves by $w_j(x)\,t$. Where $w_j < 0$ the vertex moves
 # **against** the handle: pull one hand up and patches around the other handles
 # move down. Weights above 1 overshoot: those vertices move further than the
 # handle itself. BBW adds the bounds to
@@ -517,7 +550,7 @@ assert _W.min() < -1e-3, "these weights should go negative somewhere (the lobes)
 # weights no longer sum to exactly one; dividing every row by its sum restores
 # the partition of unity (and keeps the bounds and the interpolation). That is
 # what makes LBS reproduce rigid motions: if every $T_j = T$ then
-# $u = \sum_j w_j T[v;1] = T[v;1]$.
+# $x' = \sum_j w_j T[x;1] = T[x;1]$.
 #
 # **Your task.** `bbw(V, F, b, bc)` returns the normalized `(n, m)` weights, within
 # `[0, 1]` and summing to one to 1e-9.
@@ -644,15 +677,16 @@ for label, W in (("inverse distance", W_idw), ("unconstrained biharmonic", W_unc
     print(f"{label:26s} weights in [{W.min():+.3f}, {W.max():.3f}], "
           f"{np.mean((W < -1e-9).any(axis=1)):5.1%} of the vertices have a negative weight")
 foot = 3
-plotting.show_weights(V, F, np.stack([W_idw[:, foot], W_unconstrained[:, foot], W_bbw[:, foot]], axis=1), handles=points)
-plotting.show_weights(V, F, W_bbw, handles=[np.array([p]) for p in points])
+plotting.show_weights(V, F, np.stack([W_idw[:, foot], W_unconstrained[:, foot], W_bbw[:, foot]], axis=1), handles=points,
+                      titles=[f"{method}: left foot" for method in ("inverse distance", "unconstrained biharmonic", "BBW")])
+plotting.show_weights(V, F, W_bbw, handles=[np.array([p]) for p in points], titles=[f"BBW: {name}" for name in point_names])
 
 # %% [markdown]
 # Larger handles constrain more and the lobes grow. With the three region
 # handles (head, left foot, right foot) the unconstrained weight of the left
 # foot dips to about −0.1 over the whole right arm. Pull the left foot to the
 # left and keep the other two handles: with translations only, every vertex
-# moves by $w_{\text{foot}}(v)\,t$, coloured below by that weight.
+# moves by $w_{\text{foot}}(x)\,t$, coloured below by that weight.
 
 # %%
 regions = character_handles["regions"]
@@ -666,7 +700,7 @@ for label, w in (("unconstrained", w_unconstrained), ("bounded", w_bbw)):
     print(f"{label:13s}: the right hand moves by {round(w[right_hand] * t[0], 3) + 0.0:+.3f} in x while the foot moves by {t[0]:+.1f}")
 plotting.show_meshes(
     [(V + w_unconstrained[:, None] * t, F, w_unconstrained), (V + w_bbw[:, None] * t, F, w_bbw)],
-    titles=["unconstrained biharmonic", "bounded biharmonic"],
+    titles=["unconstrained biharmonic", "bounded biharmonic"], label="weight of the left foot",
 )
 
 # %% [markdown]
@@ -696,7 +730,8 @@ for label, W in W_fork.items():
           f"(the left handle moves by {t[1]})")
 plotting.show_meshes(
     [(V_fork + W[:, :1] * t, F_fork, W[:, 0]) for W in W_fork.values()],
-    titles=[f"{label}: left prong pulled up" for label in W_fork],
+    titles=[f"{label}: left prong pulled up" for label in W_fork], label="weight of the left prong's handle",
+    clim=(0.0, 1.0),
 )
 
 # %% [markdown]
@@ -720,30 +755,38 @@ for name, (Vm, Fm, pm) in {"character": (V, F, points), "character_fine": (V_fin
     print(f"{name:15s} ({len(Vm):5d} vertices): mean left-hand weight 0.1 from the hand "
           f"{means[0]:.3f} (harmonic), {means[1]:.3f} (biharmonic)")
 W_harmonic = igl.harmonic(V, F, points, np.eye(len(points)), 1)
-plotting.show_weights(V, F, np.stack([W_harmonic[:, hand], W_unconstrained[:, hand]], axis=1), handles=points)
+plotting.show_weights(V, F, np.stack([W_harmonic[:, hand], W_unconstrained[:, hand]], axis=1), handles=points,
+                      titles=["harmonic: left hand", "unconstrained biharmonic: left hand"])
 
 # %% [markdown]
-# **Question.** Why do the unconstrained biharmonic weights go negative, and what
-# does that do to a deformation? Why does clipping them to $[0, 1]$ not give the
-# bounded biharmonic weights?
+# **Question.** The harmonic weights of the last experiment never go negative;
+# the unconstrained biharmonic ones do. Work it out in one dimension: on the
+# segment $[0, 2]$, with handle values $w(0) = 1$, $w(1) = 0$, $w(2) = 0$ and no
+# other condition, what are the minimizers of $\int_0^2 (w')^2$ and of
+# $\int_0^2 (w'')^2$? Where is the second one negative, and by roughly how much?
+# What property does the second-order problem have that the fourth-order one
+# lacks?
 
 # %% [markdown] deformlab={"answer": "negative_lobes", "points": 2}
-# The biharmonic equation is fourth order and has no maximum principle (the
-# harmonic, second-order one does): minimizing ∫(Δw)² prefers small curvature
-# change, so a weight that falls from 1 at its handle keeps its slope and
-# overshoots below 0 before it is pulled back to 0 at the other handles, like a
-# bent beam. With w_j < 0 a vertex moves by w_j t, against the direction the
-# handle moved (and with w_j > 1 it moves further than the handle), so pulling
-# one handle makes unrelated parts of the shape move the opposite way. Clipping
-# cuts the lobes off but leaves kinks (a discontinuous gradient) at the cut and
-# the rest of the function unchanged; it is feasible but not optimal: where
-# 0 < w < 1 its gradient Qw is not zero, so the energy can still be lowered. The
-# bounded QP re-shapes the whole weight function to meet the bound smoothly.
+# The minimizer of ∫ (w')² with these values is piecewise linear (w'' = 0
+# between the constraints): 1 → 0 on [0, 1] and 0 on [1, 2], never negative. The
+# minimizer of ∫ (w'')² is piecewise cubic (fourth derivative 0 between the
+# constraints), C² at x = 1, with the natural conditions w'' = 0 at both ends:
+# the natural cubic spline through (0, 1), (1, 0), (2, 0). Its second derivative
+# at x = 1 is M = 1.5 (from M_0 + 4 M_1 + M_2 = 6 (1 − 2·0 + 0)), and on [1, 2]
+# w(x) = M ((2 − x)³ − (2 − x)) / 6, negative on the whole open interval, lowest
+# (≈ −0.096) at x = 2 − 1/√3 ≈ 1.42. The weight arrives at x = 1 with a
+# negative slope and, having to stay smooth (C²), overshoots below 0 before it
+# comes back, like a bent beam. Second-order (harmonic) problems obey the
+# maximum principle: the minimizer takes its extremes on the constraints, so it
+# stays within [0, 1]. Fourth-order problems have no maximum principle: the
+# smoothness they reward is what pushes the weight beyond the values it
+# interpolates.
 
 # %% [markdown]
 # **Question.** In the fork experiment, inverse-distance weights leaked across
 # the slot and bounded biharmonic weights did not. Could *any* weight of the form
-# $w_j(v) = f(\|v - h_j\|)$ (normalized), with a cleverer $f$, avoid the leak?
+# $w_j(x) = f(\|x - h_j\|)$ (normalized), with a cleverer $f$, avoid the leak?
 # Say what information such weights would need, and how the biharmonic weights
 # get it. Then explain the harmonic weights' shares in the last experiment.
 
@@ -751,7 +794,9 @@ plotting.show_weights(V, F, np.stack([W_harmonic[:, hand], W_unconstrained[:, ha
 # No: two vertices at the same Euclidean distance from h_j get the same weight
 # whatever f is, whether they are connected to the handle through the shape or
 # only across a gap, so the top of the right prong, about as close to the left
-# handle as to its own, must move about half as much as the left prong. Weights that respect the shape need its connectivity: a
+# handle as to its own, gets a large share of the left handle's weight and
+# moves with it (39 % of the left prong's motion measured: 0.116 of 0.3).
+# Weights that respect the shape need its connectivity: a
 # distance measured inside the shape (geodesic), or an energy defined on the
 # mesh. Biharmonic weights minimize ½ wᵀQw, where Q couples only vertices within
 # two rings of each other: influence spreads from neighbour to neighbour through
@@ -786,7 +831,8 @@ b, bc = handle_constraints(mixed)
 W_mixed = bbw(V, F, b, bc)
 for label, w in zip(("point (right hand)", "bone (left arm)", "region (head)"), W_mixed.T):
     print(f"{label:18s}: weight ≥ 0.5 on {np.mean(w >= 0.5):5.1%} of the vertices")
-plotting.show_weights(V, F, W_mixed, handles=mixed, columns=[0, 1, 2])
+plotting.show_weights(V, F, W_mixed, handles=mixed, columns=[0, 1, 2],
+                      titles=["BBW: point (right hand)", "BBW: bone (left arm)", "BBW: region (head)"])
 
 # %% [markdown]
 # ## 9 · A cage
@@ -827,4 +873,21 @@ for label, chain in (("bottom edge of the outline", y == 0), ("vertical line x =
     order = np.argsort(x[chain] + y[chain])
     print(f"{label:27s}: bends by {bend_of(U_cage[chain][order]):.4f}")
 print(f"largest difference between the cage weights and the bilinear coordinates: {np.abs(W_cage - bilinear).max():.3f}")
-plotting.show_meshes([(V_cage, F_cage), (U_cage, F_cage, W_cage[:, 2])], titles=["rest", "cage corners moved"])
+# The difference from the bilinear map is a few hundredths: drawn at its true size it is invisible,
+# so the right panel adds it ten times over (and colours its true size).
+U_bilinear = V_cage + bilinear @ (moved - corners)
+exaggeration = 10.0
+deviation = U_cage - U_bilinear
+plotting.show_meshes(
+    [(U_bilinear, F_cage, np.zeros(len(V_cage))), (U_bilinear + exaggeration * deviation, F_cage, np.linalg.norm(deviation, axis=1))],
+    titles=["bilinear map of the moved corners", f"BBW cage, its difference from bilinear × {exaggeration:.0f}"],
+    label="distance from the bilinear map (true size)", clim=(0.0, np.linalg.norm(deviation, axis=1).max()),
+)
+
+# %% [markdown]
+# The outline stays exactly straight: on it the weights are the constrained
+# linear hats. The middle line bends (by the printed amount, a few hundredths),
+# because inside the square the weights are not the bilinear coordinates: the
+# biharmonic energy and the bounds decide them, and nothing asks them to keep
+# lines straight. At true size the bend is invisible, which is why the right
+# panel multiplies the difference from the bilinear map by ten.

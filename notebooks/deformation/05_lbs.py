@@ -20,8 +20,8 @@
 # and every vertex moves by a weighted blend of the handles' transformations,
 #
 # $$
-# u_i \;=\; \sum_{j=1}^{m} w_j(v_i)\; T_j \begin{bmatrix} v_i \\ 1 \end{bmatrix}
-# \;=\; \sum_{j=1}^{m} w_{ij}\,(A_j v_i + t_j).
+# x'_i \;=\; \sum_{j=1}^{m} w_j(x_i)\; T_j \begin{bmatrix} x_i \\ 1 \end{bmatrix}
+# \;=\; \sum_{j=1}^{m} w_{ij}\,(A_j x_i + t_j).
 # $$
 #
 # This is *linear blend skinning* (LBS). The weights $w_{ij}$ are computed once,
@@ -41,7 +41,7 @@
 # **Cages** fit the same mould: the vertices of a coarse polygon (or polyhedron)
 # enclosing the shape are point handles that only translate, the weights are
 # *generalized barycentric coordinates* of the cage (mean-value, harmonic or
-# Green coordinates), and $u_i = \sum_j w_{ij}\, c'_j$ for the moved cage
+# Green coordinates), and $x'_i = \sum_j w_{ij}\, c'_j$ for the moved cage
 # vertices $c'_j$. Stage 04 (§9) builds one with `bbw`: the weights are
 # constrained to be linear along the cage's edges instead of one-hot.
 #
@@ -67,13 +67,13 @@ rng = np.random.default_rng(5)
 # Transpose the formula for one vertex and collect the handles side by side:
 #
 # $$
-# u_i^\top \;=\; \sum_j w_{ij}\, [v_i^\top \; 1]\; T_j^\top
-# \;=\; \underbrace{\bigl[\, w_{i1}[v_i^\top \; 1] \;\; w_{i2}[v_i^\top \; 1] \;\cdots\; w_{im}[v_i^\top \; 1] \,\bigr]}_{\text{row } i \text{ of } A}
+# {x'_i}^\top \;=\; \sum_j w_{ij}\, [x_i^\top \; 1]\; T_j^\top
+# \;=\; \underbrace{\bigl[\, w_{i1}[x_i^\top \; 1] \;\; w_{i2}[x_i^\top \; 1] \;\cdots\; w_{im}[x_i^\top \; 1] \,\bigr]}_{\text{row } i \text{ of } A}
 # \begin{bmatrix} T_1^\top \\ \vdots \\ T_m^\top \end{bmatrix}.
 # $$
 #
 # So $U = A\,T_{\text{stack}}$ with $A$ of size $n \times m(d+1)$,
-# $M_{i,\,j(d+1)+c} = w_{ij}\,[v_i; 1]_c$, and $T_{\text{stack}}$ of size
+# $M_{i,\,j(d+1)+c} = w_{ij}\,[x_i; 1]_c$, and $T_{\text{stack}}$ of size
 # $m(d+1) \times d$. $A$ depends only on the rest pose and the weights: it is
 # computed **once**. Every new pose then costs a single dense product, $O(n\,m\,d^2)$
 # operations with no solve and no branching, which is why skinning runs in a GPU
@@ -83,7 +83,7 @@ rng = np.random.default_rng(5)
 #
 # **Your task.** `lbs_matrix(V, W)` returns $A$ (as a dense array). Build it
 # with broadcasting: an `(n, m, d+1)` array of
-# the products $w_{ij}[v_i;1]_c$ reshaped to `(n, m(d+1))`.
+# the products $w_{ij}[x_i;1]_c$ reshaped to `(n, m(d+1))`.
 
 # %% deformlab={"solution": "lbs_matrix"}
 import numpy as np
@@ -102,13 +102,13 @@ def lbs_matrix(V, W):
     Returns
     -------
     A : (n, m(d+1)) numpy.ndarray
-        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
+        ``A[i, j(d+1) + c] = W[i, j] · [x_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
     """
     ### BEGIN SOLUTION
     V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)
     n, m = W.shape
-    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [v_iᵀ 1]
-    # (n, m, d+1): w_ij [v_i; 1]_c, then the handles side by side
+    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [x_iᵀ 1]
+    # (n, m, d+1): w_ij [x_i; 1]_c, then the handles side by side
     return (W[:, :, None] * V_homogeneous[:, None, :]).reshape(n, -1)
     ### END SOLUTION
 
@@ -119,11 +119,11 @@ assert _A.shape == (1, 6), f"one vertex in 2D with two handles gives A of shape 
 assert np.allclose(_A, _expected), (
     f"for v = (1, 2) and w = (0.25, 0.75) the row is [w_1·(1, 2, 1), w_2·(1, 2, 1)] = {_expected.ravel().tolist()}, "
     f"got {np.round(_A, 6).ravel().tolist()}"
-    + (": the 1 goes last, [v_i; 1]" if np.allclose(_A, [[0.25, 0.25, 0.5, 0.75, 0.75, 1.5]]) else "")
+    + (": the 1 goes last, [x_i; 1]" if np.allclose(_A, [[0.25, 0.25, 0.5, 0.75, 0.75, 1.5]]) else "")
     + (": the 1 is weighted too, W[i, j]·1" if np.allclose(_A, [[0.25, 0.5, 1.0, 0.75, 1.5, 1.0]]) else "")
     + (": the columns go handle by handle, not coordinate by coordinate"
        if np.allclose(_A, [[0.25, 0.75, 0.5, 1.5, 0.25, 0.75]]) else "")
-    + (": the weight enters once, w_ij·[v_i; 1]" if np.allclose(_A, [[0.0625, 0.125, 0.0625, 0.5625, 1.125, 0.5625]]) else "")
+    + (": the weight enters once, w_ij·[x_i; 1]" if np.allclose(_A, [[0.0625, 0.125, 0.0625, 0.5625, 1.125, 0.5625]]) else "")
 )
 
 _V, _F = load_mesh("character")
@@ -158,7 +158,7 @@ assert _err.max() < 1e-10, (
 # * **one-hot rows move rigidly.** A vertex with $w_{ij} = 1$ (a handle vertex)
 #   follows $T_j$ exactly;
 # * **partition of unity reproduces rigid motions.** If $\sum_j w_{ij} = 1$ and
-#   every handle gets the same $T$, then $u_i = \sum_j w_{ij}\,T[v_i; 1] = T[v_i; 1]$:
+#   every handle gets the same $T$, then $x'_i = \sum_j w_{ij}\,T[x_i; 1] = T[x_i; 1]$:
 #   the whole shape moves by $T$, undistorted. Without it, even "move
 #   everything 1 cm to the left" would distort the shape.
 #
@@ -184,12 +184,12 @@ def lbs(V, W, T):
     Returns
     -------
     U : (n, d) numpy.ndarray
-        ``u_i = Σ_j W[i, j] T_j [v_i; 1]``.
+        ``x'_i = Σ_j W[i, j] T_j [x_i; 1]``.
     """
     ### BEGIN SOLUTION
     V, W, T = (np.asarray(x, dtype=float) for x in (V, W, T))
     V_homogeneous = np.hstack([V, np.ones((len(V), 1))])
-    moved = np.einsum("jdc,ic->ijd", T, V_homogeneous)  # T_j [v_i; 1] for every vertex and handle
+    moved = np.einsum("jdc,ic->ijd", T, V_homogeneous)  # T_j [x_i; 1] for every vertex and handle
     return np.einsum("ij,ijd->id", W, moved)  # blended with the weights
     ### END SOLUTION
 
@@ -217,7 +217,7 @@ _W /= _W.sum(axis=1, keepdims=True)
 _T = rng.normal(size=(_m, 2, 3))
 _U = lbs(_V, _W, _T)
 assert _U.shape == _V.shape, f"U must have the shape of V, {_V.shape}, got {_U.shape}"
-# u_i is linear in the transforms and in the weights
+# x'_i is linear in the transforms and in the weights
 _T2 = rng.normal(size=_T.shape)
 _err = np.linalg.norm(lbs(_V, _W, _T + 2 * _T2) - (_U + 2 * lbs(_V, _W, _T2)), axis=1)
 assert _err.max() < 1e-10, f"lbs must be linear in T: lbs(V, W, T + 2 T2) = lbs(V, W, T) + 2 lbs(V, W, T2); vertex {_err.argmax()} is off by {_err.max():.2e}"
@@ -274,7 +274,8 @@ bones = character_handles["bones"]  # spine, left arm, right arm, left leg, righ
 W_bones = harmonic_weights(V, F, bones)
 print(f"character: {len(V)} vertices; weights in [{W_bones.min():.3g}, {W_bones.max():.3g}], "
       f"row sums within {np.abs(W_bones.sum(axis=1) - 1).max():.1e} of 1")
-plotting.show_weights(V, F, W_bones, handles=bones)
+plotting.show_weights(V, F, W_bones, handles=bones,
+                      titles=[f"harmonic: {name}" for name in ("spine", "left arm", "right arm", "left leg", "right leg")])
 
 joints = bone_joints(V, bones)  # each bone's first vertex
 
@@ -349,33 +350,55 @@ print(f"lbs_matrix once: {1e3 * precompute:.2f} ms; per frame: A @ T {1e6 * with
 # reason earns the point; the measurement decides.)
 
 # %% [markdown]
-# **Your turn.** Complete the loop: for each angle build the two handles'
-# transformations `T` `(2, 3, 4)` (the left one the identity, the right one the
-# turn by $\theta$ about the $x$ axis, no translation), skin the cylinder with
-# **your** `lbs`, and measure `radius`: the middle ring's mean distance from the
-# axis divided by its rest value. The cell prints it and draws the four poses.
+# **Your turn.** Write `twist_transforms(theta)`: the two handles'
+# transformations `T` `(2, 3, 4)`, the left one the identity, the right one the
+# turn by $\theta$ (radians) about the $x$ axis, no translation. The cell after
+# it skins the cylinder with them and **your** `lbs`, and measures the middle
+# ring's mean distance from the axis divided by its rest value.
+
+# %%
+V, F = load_mesh("cylinder")
+along = (V[:, 0] - V[:, 0].min()) / np.ptp(V[:, 0])  # 0 at the left cap, 1 at the right one
+W_cylinder = np.stack([1.0 - (3 * along**2 - 2 * along**3), 3 * along**2 - 2 * along**3], axis=1)
+middle = np.abs(along - 0.5) < 1e-9  # the ring of vertices half way along the axis
 
 # %% deformlab={"exercise": "candy_wrapper"}
-V, F = load_mesh("cylinder")
-s = (V[:, 0] - V[:, 0].min()) / np.ptp(V[:, 0])
-w_right = 3 * s**2 - 2 * s**3
-W_cylinder = np.stack([1.0 - w_right, w_right], axis=1)
-middle = np.abs(s - 0.5) < 1e-9  # the ring of vertices half way along the axis
-
-twisted = []
-for degrees in (0, 90, 135, 180):
-    theta = np.radians(degrees)
-    # T: left handle still, right handle turned by theta about x; U = your lbs; radius of the middle ring
+def twist_transforms(theta):
+    """(2, 3, 4) transforms: the left handle still, the right one turned by ``theta`` about the x axis."""
     ### BEGIN SOLUTION
     turn_x = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(theta), -np.sin(theta)], [0.0, np.sin(theta), np.cos(theta)]])
-    T = np.stack([np.eye(3, 4), np.hstack([turn_x, np.zeros((3, 1))])])
-    U = lbs(V, W_cylinder, T)
-    ring_distance = np.linalg.norm(U[middle, 1:], axis=1)  # distance from the x axis
-    radius = ring_distance.mean() / np.linalg.norm(V[middle, 1:], axis=1).mean()
+    return np.stack([np.eye(3, 4), np.hstack([turn_x, np.zeros((3, 1))])])
     ### END SOLUTION
+
+
+# %%
+twisted = []
+for degrees in (0, 90, 135, 180):
+    U = lbs(V, W_cylinder, twist_transforms(np.radians(degrees)))
+    radius = np.linalg.norm(U[middle, 1:], axis=1).mean() / np.linalg.norm(V[middle, 1:], axis=1).mean()
     print(f"twist {degrees:3d}°: middle ring radius × {radius:.4f}")
     twisted.append((U, F))
 plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
+
+# %% [markdown]
+# **Question.** Could better weights remove the candy wrapper, for instance
+# bounded biharmonic weights, or weights that change more slowly along the axis?
+# Argue for the 180° twist, whatever weight function goes from the left handle
+# to the right one (the text after your answer explains the middle ring's
+# numbers).
+
+# %% [markdown] deformlab={"answer": "candy_wrapper", "points": 2}
+# LBS blends the transformation matrices linearly: a middle vertex with weights
+# (½, ½) is moved by ½(I + R_θ). A linear combination of rotations is not a
+# rotation: in the plane perpendicular to the axis ½(I + R_θ) = cos(θ/2)·R_{θ/2},
+# a rotation by half the angle times a uniform scaling by cos(θ/2). The
+# cross-section shrinks, and at θ = 180° the matrix is singular (zero in that
+# plane) and the middle ring collapses onto the axis. Any weights must go from
+# (1, 0) at the left handle to (0, 1) at the right one continuously, so some
+# vertices have weights near (½, ½) whatever the weight function: the problem is
+# in the blending of matrices, not in the weights. Remedies blend rotations
+# properly (dual quaternions, or interpolating angles) or add more bones along
+# the twist so that neighbouring handles differ only by small rotations.
 
 # %% [markdown]
 # **Why.** A vertex half way, $w = (\tfrac12, \tfrac12)$, is moved by the
@@ -398,37 +421,23 @@ plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
 # 180° twist of the bar still narrows its middle (stage 03 measures by how much).
 
 # %% [markdown]
-# **Question.** Could better weights remove the candy wrapper, for instance
-# bounded biharmonic weights, or weights that change more slowly along the axis?
-# Argue for the 180° twist, whatever weight function goes from the left handle
-# to the right one.
-
-# %% [markdown] deformlab={"answer": "candy_wrapper", "points": 2}
-# LBS blends the transformation matrices linearly: a middle vertex with weights
-# (½, ½) is moved by ½(I + R_θ). A linear combination of rotations is not a
-# rotation: in the plane perpendicular to the axis ½(I + R_θ) = cos(θ/2)·R_{θ/2},
-# a rotation by half the angle times a uniform scaling by cos(θ/2). The
-# cross-section shrinks, and at θ = 180° the matrix is singular (zero in that
-# plane) and the middle ring collapses onto the axis. Any weights must go from
-# (1, 0) at the left handle to (0, 1) at the right one continuously, so some
-# vertices have weights near (½, ½) whatever the weight function: the problem is
-# in the blending of matrices, not in the weights. Remedies blend rotations
-# properly (dual quaternions, or interpolating angles) or add more bones along
-# the twist so that neighbouring handles differ only by small rotations.
-
-# %% [markdown]
-# **Question.** Every row of `W` sums to one here. What would happen to the
-# character if you translated every handle by the same vector $t$ and the rows
-# summed to something else, say $s_i$ at vertex $i$?
+# **Question.** Partition of unity makes LBS reproduce every common motion
+# (section 2). Does it also make LBS independent of where the origin is? Move
+# the rest shape by $c$ (so $x_i$ becomes $x_i + c$) and express every handle's
+# motion in the moved coordinates ($T_j$ becomes "move back by $c$, apply $T_j$,
+# move by $c$"): is the result the old deformed shape moved by $c$? Answer for
+# rows summing to one and for rows summing to $s_i \ne 1$.
 
 # %% [markdown] deformlab={"answer": "partition_of_unity", "points": 2}
-# With T_j = [I | t] for every handle, u_i = Σ_j w_ij (v_i + t) = s_i (v_i + t).
-# Unless every s_i = 1, the vertex is scaled towards or away from the origin by
-# s_i and translated by s_i t instead of t: the shape distorts (it shrinks where
-# s_i < 1, grows where s_i > 1) even though the user only asked for a rigid
-# translation, and even the identity pose (t = 0) no longer gives the rest
-# shape. With Σ_j w_ij = 1 every common affine map T, in particular every rigid
-# motion, is reproduced exactly: u_i = T [v_i; 1].
+# In the moved frame the handle j maps x_i + c to T_j[x_i; 1] + c (the same
+# motion, expressed around the new origin), so
+# x̃′_i = Σ_j w_ij (T_j[x_i; 1] + c) = x′_i + s_i c with s_i = Σ_j w_ij. With rows
+# summing to one, x̃′_i = x′_i + c: the deformation does not depend on where the
+# origin is, as a deformation of a shape should not. With s_i ≠ 1 the result
+# moves by s_i c instead of c, differently at every vertex: the same pose of
+# the same shape gives different shapes depending on the coordinate frame the
+# rig was built in (and even the identity pose scales the shape about the
+# origin by s_i).
 
 # %% [markdown]
 # ## 5 · Dual-quaternion skinning
@@ -474,15 +483,15 @@ plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
 # $$
 # \hat b_i = \sum_j w_{ij}\, s_j\, \hat q_j, \qquad
 # \hat c_i = \hat b_i / \lVert b_{i,0} \rVert, \qquad
-# u_i = T(\hat c_i)\,[v_i; 1].
+# x'_i = T(\hat c_i)\,[x_i; 1].
 # $$
 #
 # Every vertex moves by a **rigid** motion, whatever the weights: no shrinking.
 # The signs $s_j = \pm 1$ matter: $\hat q_j$ and $-\hat q_j$ are the same transform but
 # not the same summand. Averaging $q$ with $-q$ would give zero; DQS puts every
 # handle on the same side as a *pivot*, handle 0, by flipping $\hat q_j$ when
-# $q_{j,0} \cdot q_{0,0} < 0$ (as libigl's `igl::dqs` does). The contract is in
-# `LECTURE_CONTRACT.md`; DQS is 3D only.
+# $q_{j,0} \cdot q_{0,0} < 0$ (as libigl's `igl::dqs` does). What each function returns
+# is in the docstrings of `dual_quaternions` and `dqs` below; DQS is 3D only.
 #
 # **Your task.** `dual_quaternions(T)` returns the `(m, 2, 4)` unit dual
 # quaternions of the rigid transforms `T` `(m, 3, 4)`. Read $q_0$ off $R$ with the
@@ -782,10 +791,10 @@ assert _err < 1e-10, f"the same rigid T for every handle must move the shape rig
 # zero across the axis); DQS keeps the radius exactly (every vertex moves by a
 # rotation about the axis); ARAP in steps keeps most of it but not all (the
 # surface shortens its twisted edges a little: ×0.94 measured). Elbow: LBS loses
-# volume at the joint (the inner side collapses: skin-to-bone distance ×0.46,
+# volume at the joint (the inner side collapses: skin-to-bone distance ×0.45,
 # volume −13 % of the joint zone); DQS keeps the volume (−0.5 %) but bulges on
 # the outer side (×1.06); surface ARAP keeps the skin's edges, not the volume:
-# the tube folds at the joint (−38 %, bulge ×1.25).
+# the tube folds at the joint (−38 %, the inner side down to ×0.20, bulge ×1.25).
 
 # %%
 def turn(axis, degrees):
@@ -844,10 +853,10 @@ plotting.show_meshes([(U, F) for U in twist.values()], titles=[f"twist 180°: {n
 # cell skins the cylinder with them, and ARAP moves the forearm's vertices by
 # `elbow_transforms(90 * f)[1]` step by step.
 
-# %% deformlab={"exercise": "elbow"}
+# %%
 joint = np.array([2.0, 0.0, 0.0])
 
-
+# %% deformlab={"exercise": "elbow"}
 def elbow_transforms(degrees):
     """(2, 3, 4) transforms: the upper arm still, the forearm turned by ``degrees`` about z through ``joint``."""
     ### BEGIN SOLUTION
@@ -885,12 +894,19 @@ def distance_to_segment(P, a, b):
 hand = moved(np.array([4.0, 0.0, 0.0]), T[1])  # where the far end of the bent axis goes
 skin = (np.linalg.norm(V[:, 1:], axis=1) > radius - 1e-9) & (np.abs(V[:, 0] - 2.0) <= 0.4 + 1e-9)
 zone_volume = np.pi * radius**2 * 0.8
+# The bend turns about z, so seen from outside the inner side of the joint hides behind the tube. Drawn
+# instead: the belt of skin around the plane of the bend (rest |z| < 0.4 radius), seen down the z axis,
+# whose outline is the inner and the outer side of the joint.
+belt = F[np.abs(V[F][:, :, 2].mean(axis=1)) < 0.4 * radius]
+pictures = []
 for name, U in elbow.items():
-    to_bone = np.minimum(distance_to_segment(U, np.zeros(3), joint), distance_to_segment(U, joint, hand))[skin] / radius
+    to_bone = np.minimum(distance_to_segment(U, np.zeros(3), joint), distance_to_segment(U, joint, hand)) / radius
     change = (volume(U, F) - volume(V, F)) / zone_volume
     print(f"elbow 90°, {name:<15} volume {100 * change:+5.1f} % of the joint zone; "
-          f"skin to bone × {to_bone.min():.2f} (collapse) … × {to_bone.max():.2f} (bulge)")
-plotting.show_meshes([(U, F) for U in elbow.values()], titles=[f"elbow 90°: {name}" for name in elbow])
+          f"skin to bone × {to_bone[skin].min():.2f} (collapse) … × {to_bone[skin].max():.2f} (bulge)")
+    pictures.append((U, belt, to_bone))
+plotting.show_meshes(pictures, titles=[f"elbow 90°, {name}: belt" for name in elbow], view=(0.0, 0.0, 1.0),
+                     label="skin to bone / rest radius", clim=(0.0, 1.3))
 
 # %% [markdown]
 # **Question.** DQS moves every vertex rigidly, yet the elbow bulges on its outer

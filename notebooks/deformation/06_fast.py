@@ -76,22 +76,22 @@ def optimal_rotation(S):
     Parameters
     ----------
     S : (d, d) or (k, d, d) array_like of float
-        Covariance matrix or matrices, ``S = Ũ Σ Ṽᵀ``.
+        Covariance matrix or matrices, ``S = U Σ Ũᵀ``.
 
     Returns
     -------
     R : numpy.ndarray, the shape of ``S``
-        ``R = Ṽ diag(1, …, 1, det(Ṽ Ũᵀ)) Ũᵀ``: orthogonal with ``det R = +1``.
+        ``R = Ũ diag(1, …, 1, det(Ũ Uᵀ)) Uᵀ``: orthogonal with ``det R = +1``.
     """
     ### BEGIN SOLUTION
     # np.linalg.svd and det act on the last two axes, so one code path serves (d, d) and (k, d, d).
-    U_tilde, sigma, V_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))
-    V_tilde = np.swapaxes(V_tilde_T, -1, -2).copy()
-    U_tilde_T = np.swapaxes(U_tilde, -1, -2)
-    sign = np.where(np.linalg.det(V_tilde @ U_tilde_T) < 0, -1.0, 1.0)  # -1 where Ṽ Ũᵀ is a reflection
-    # Flip the singular vector of the smallest singular value (numpy's last column): the cheapest fix.
-    V_tilde[..., -1] *= sign[..., None]
-    return V_tilde @ U_tilde_T
+    U_svd, sigma, U_tilde_T = np.linalg.svd(np.asarray(S, dtype=float))  # S = U Σ Ũᵀ
+    U_tilde = np.swapaxes(U_tilde_T, -1, -2)
+    sign = np.where(np.linalg.det(U_tilde @ np.swapaxes(U_svd, -1, -2)) < 0, -1.0, 1.0)  # -1 where Ũ Uᵀ is a reflection
+    # Flip the column of U of the smallest singular value (numpy's last column): the cheapest fix.
+    U_svd = U_svd.copy()
+    U_svd[..., -1] *= sign[..., None]
+    return U_tilde @ np.swapaxes(U_svd, -1, -2)  # R = Ũ D Uᵀ
     ### END SOLUTION
 
 # %% deformlab={"tests": "optimal_rotation"}
@@ -108,7 +108,7 @@ _B = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])  # a rotatio
 _R = optimal_rotation(np.diag([3.0, 0.0, 2.0]) @ _B.T)
 assert np.allclose(_R, _B, atol=1e-10), (
     f"S = diag(3, 0, 2) Bᵀ (B a rotation) is singular and its best rotation is B; got R with det {np.linalg.det(_R):.6f}"
-    + (": det(S) = 0 says nothing about the sign; take it from det(Ṽ Ũᵀ)" if abs(np.linalg.det(_R) - 1) > 1e-8 else "")
+    + (": det(S) = 0 says nothing about the sign; take it from det(Ũ Uᵀ)" if abs(np.linalg.det(_R) - 1) > 1e-8 else "")
 )
 
 # %% deformlab={"solution": "cotangent_weights"}
@@ -229,13 +229,13 @@ def lbs_matrix(V, W):
     Returns
     -------
     A : (n, m(d+1)) numpy.ndarray
-        ``A[i, j(d+1) + c] = W[i, j] · [v_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
+        ``A[i, j(d+1) + c] = W[i, j] · [x_i; 1][c]``, so that ``U = A @ vstack(T_jᵀ)``.
     """
     ### BEGIN SOLUTION
     V, W = np.asarray(V, dtype=float), np.asarray(W, dtype=float)
     n, m = W.shape
-    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [v_iᵀ 1]
-    # (n, m, d+1): w_ij [v_i; 1]_c, then the handles side by side
+    V_homogeneous = np.hstack([V, np.ones((n, 1))])  # rows [x_iᵀ 1]
+    # (n, m, d+1): w_ij [x_i; 1]_c, then the handles side by side
     return (W[:, :, None] * V_homogeneous[:, None, :]).reshape(n, -1)
     ### END SOLUTION
 
@@ -250,13 +250,13 @@ _owner = _draw.integers(3, size=len(_V))
 _U = lbs_matrix(_V, np.eye(3)[_owner]) @ _T.transpose(0, 2, 1).reshape(-1, 2)
 assert np.allclose(_U, np.einsum("iab,ib->ia", _T[_owner, :, :2], _V) + _T[_owner, :, 2]), (
     "with one-hot weight rows, A @ vstack(T_jᵀ) must move each vertex by its own handle's transform"
-    + ("; the columns go handle by handle: the first three are w_i1·[v_i; 1]"
+    + ("; the columns go handle by handle: the first three are w_i1·[x_i; 1]"
        if not np.allclose(_A[:, :2], _W[:, :1] * _V)
        else "; the translation columns must hold w_ij·1, not 1" if not np.allclose(_A[:, 2::3], _W) else "")
 )
 assert np.allclose(lbs_matrix(_V, 2 * _W), 2 * _A), (
     "A is linear in W: doubling W doubles A"
-    + ("; the weight enters once, w_ij·[v_i; 1]" if np.allclose(lbs_matrix(_V, 2 * _W), 4 * _A) else "")
+    + ("; the weight enters once, w_ij·[x_i; 1]" if np.allclose(lbs_matrix(_V, 2 * _W), 4 * _A) else "")
 )
 
 # %% [markdown]
@@ -900,7 +900,25 @@ plotting.show_meshes([(V, F), (U_fast, F), (U_arap, F)], titles=["rest", "FAST (
 plotting.show_energy(energies, title="FAST energy per iteration")
 
 # %% [markdown]
-# FAST cannot reach full ARAP's energy: its deformations live in the span of
+# **Question.** FAST's result has a higher ARAP energy than full ARAP's. Before
+# reading on: name the two approximations responsible, say which knob reduces
+# each, and what turning it up costs per iteration and in the precomputation.
+
+# %% [markdown] deformlab={"answer": "fast_tradeoffs", "points": 2}
+# Two restrictions: (1) the deformation must lie in the LBS subspace, U = A T,
+# so only what the weights can express is reachable (the arms bend only where
+# weights blend, nothing can bulge where the weights are flat); adding free
+# handles (more weight functions, FAST's "extra weights") enlarges the subspace,
+# at the cost of a larger system, m(d+1) unknowns per coordinate: the global
+# solve is O((m(d+1))²) per iteration and the precomputation of Q and P grows
+# with m (and computing more BBW weights). (2) Rotations are shared by clusters,
+# so a cluster that bends cannot have one best rotation for all its cells; more
+# clusters bring the energy towards per-vertex rotations at k SVDs per
+# iteration and a P of size k·d·m(d+1). With k = n and the weights spanning
+# every deformation, FAST becomes full ARAP and loses its speed.
+
+# %% [markdown]
+# FAST does not reach full ARAP's energy: its deformations live in the span of
 # the weights, and its rotations are shared by whole clusters. The cell below
 # varies the number of clusters with the same handles.
 
@@ -939,21 +957,3 @@ igl.arap_solve(targets_fine, arap_fine, V_fine.copy())
 arap_fine_iteration = (time.perf_counter() - start) / 20
 print(f"{len(V_fine)} vertices: FAST {1e6 * fast_fine:.0f} µs, ARAP {1e3 * arap_fine_iteration:.1f} ms per iteration "
       f"({arap_fine_iteration / fast_fine:.0f}× faster)")
-
-# %% [markdown]
-# **Question.** FAST's result has a higher ARAP energy than full ARAP's. Name
-# the two approximations responsible, say which knob reduces each, and what
-# turning it up costs per iteration and in the precomputation.
-
-# %% [markdown] deformlab={"answer": "fast_tradeoffs", "points": 2}
-# Two restrictions: (1) the deformation must lie in the LBS subspace, U = A T,
-# so only what the weights can express is reachable (the arms bend only where
-# weights blend, nothing can bulge where the weights are flat); adding free
-# handles (more weight functions, FAST's "extra weights") enlarges the subspace,
-# at the cost of a larger system, m(d+1) unknowns per coordinate: the global
-# solve is O((m(d+1))²) per iteration and the precomputation of Q and P grows
-# with m (and computing more BBW weights). (2) Rotations are shared by clusters,
-# so a cluster that bends cannot have one best rotation for all its cells; more
-# clusters bring the energy towards per-vertex rotations at k SVDs per
-# iteration and a P of size k·d·m(d+1). With k = n and the weights spanning
-# every deformation, FAST becomes full ARAP and loses its speed.

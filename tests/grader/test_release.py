@@ -176,7 +176,7 @@ def test_the_leak_scan_refuses_one_line_of_a_reference_body_in_a_provided_cell()
 def test_the_leak_scan_refuses_a_markdown_hint_quoting_the_sign_fix():
     teaching = teaching_bodies("deformation")
     for quote, body in (
-        ("V_tilde[..., -1]  *=  sign[..., None]", "teaching optimal_rotation (02_sign_correction)"),  # spacing changed
+        ("U_svd[..., -1]  *=  sign[..., None]", "teaching optimal_rotation (02_sign_correction)"),  # spacing changed
         ("Vt[np.linalg.det(U @ Vt) < 0, -1, :] *= -1.0", "reference optimal_rotation"),
     ):
         hint = nbformat.v4.new_markdown_cell(f"**Hint.** Flip the last singular vector where needed: `{quote}` does it.")

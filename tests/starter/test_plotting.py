@@ -91,8 +91,8 @@ def test_weights_out_of_unit_interval_get_the_out_of_range_colours_but_round_off
     w = np.clip(1.5 - V[:, 1], 0.0, 1.0)
     exact = plotting.show_weights(V, F, w)
     round_off = plotting.show_weights(V, F, w + np.where(w == 0.0, -1e-9, 0.0) + np.where(w == 1.0, 1e-9, 0.0))
-    # The title prints the minimum and maximum, so compare the mesh area only.
-    assert np.array_equal(np.asarray(exact)[40:], np.asarray(round_off)[40:])
+    # Round-off is drawn and printed as 0 and 1: the pictures are the same.
+    assert np.array_equal(np.asarray(exact), np.asarray(round_off))
     outside = plotting.show_weights(V, F, 1.6 - V[:, 1])
     assert count(outside, MAGENTA) > count(exact, MAGENTA) + 500
     assert count(outside, RED) > count(exact, RED) + 500
@@ -157,6 +157,40 @@ def test_unknown_backend_setting_raises_value_error(monkeypatch):
         plotting.show_mesh(V, F)
 
 
+def _panels(monkeypatch):
+    """The panels the next picture is drawn from (what its titles and colour bars say)."""
+    seen = []
+    monkeypatch.setattr(plotting, "_render", lambda panels, link_views=True: seen.extend(panels) or np.ones((4, 4, 3), np.uint8))
+    return seen
+
+
+def test_weight_panels_name_method_and_handle_and_label_their_colour_bar(monkeypatch):
+    V, F = shapes.grid_2d(4, 4)
+    panels = _panels(monkeypatch)
+    W = np.column_stack([V[:, 0], 1 - V[:, 0] - 7.65e-20])
+    plotting.show_weights(V, F, W, titles=["BBW: left foot", "BBW: right foot"])
+    assert [p.title.split(":")[:2] for p in panels] == [["BBW", " left foot"], ["BBW", " right foot"]]
+    assert all(p.label == "weight" for p in panels)
+    assert "e-20" not in panels[1].title, "round-off below 0 is printed as 0"
+
+
+def test_mesh_panels_carry_colour_bar_labels_shared_ranges_categories_and_a_view(monkeypatch, backend_3d):
+    V, F = load_mesh("bar_coarse")
+    flipped = (np.arange(len(F)) % 2).astype(float)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        img = plotting.show_meshes([(V, F, flipped), (V, F, flipped)], label="triangle", categories=("kept", "flipped"),
+                                   view=(0.0, 0.0, 1.0))
+        assert_picture(img, (400, 800, 3))
+        # two flat colours, no blend between them: the bar is not a continuous range
+        assert_picture(plotting.show_meshes([(V, F, V[:, 0] - 2.0)], label="x", clim=(-3.0, 3.0)), (400, 400, 3))
+    panels = _panels(monkeypatch)
+    plotting.show_meshes([(V, F, V[:, 0]), (V, F, V[:, 1] - 7.65e-20 - V[:, 1].min())], label=["x", "volume change"])
+    assert [p.label for p in panels] == ["x", "volume change"]
+    assert plotting._clim(panels[1])[0] == 0.0, "a colour range starting within round-off of 0 starts at 0"
+    assert plotting._colormap(plotting._Panel(V, F, categories=("kept", "flipped"))).N == 2
+
+
 @pytest.mark.parametrize(
     "call, name",
     [
@@ -168,6 +202,11 @@ def test_unknown_backend_setting_raises_value_error(monkeypatch):
         (lambda V, F: plotting.show_meshes([]), "meshes"),
         (lambda V, F: plotting.show_meshes([(V, F)], titles=["a", "b"]), "titles"),
         (lambda V, F: plotting.show_meshes([(V, F, np.ones(3))]), r"meshes\[0\]\[2\]"),
+        (lambda V, F: plotting.show_meshes([(V, F)], label=["a", "b"]), "label"),
+        (lambda V, F: plotting.show_meshes([(V, F, np.ones(len(V)))], clim=(1.0, 0.0)), "clim"),
+        (lambda V, F: plotting.show_meshes([(V, F, np.full(len(F), 2.0))], categories=("kept", "flipped")), r"meshes\[0\]\[2\]"),
+        (lambda V, F: plotting.show_meshes([(V, F)], view=(0.0, 0.0, 0.0)), "view"),
+        (lambda V, F: plotting.show_weights(V, F, np.ones((len(V), 2)), titles=["only one"]), "titles"),
         (lambda V, F: plotting.show_weights(V, F, np.ones((3, 2))), "W"),
         (lambda V, F: plotting.show_weights(V, F, np.ones((len(V), 2)), columns=[2]), "columns"),
         (lambda V, F: plotting.show_weights(V, F, np.ones((len(V), 2)), handles=[[0], [-1]]), r"handles\[1\]"),
