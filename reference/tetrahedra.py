@@ -130,29 +130,12 @@ def tet_volumes(V, T):
     return tet_volumes_unchecked(V, as_tets(T, len(V)))
 
 
-def barycentric_gradients(V, T):
-    """Gradients of the four hat functions in every tetrahedron.
-
-    Parameters
-    ----------
-    V : (n, 3) array_like of float
-    T : (f, 4) array_like of int
-        No tetrahedron may be flat.
-
-    Returns
-    -------
-    G : (f, 4, 3) numpy.ndarray
-        ``G[t, k] = ∇φ_{T[t, k]}`` on tetrahedron ``t`` (constant there); the
-        four sum to zero. Row ``k ≥ 1`` is row ``k - 1`` of
-        ``[v1 - v0, v2 - v0, v3 - v0]⁻¹``.
-    """
-    return _barycentric_gradients(*as_tet_mesh(V, T))
-
-
 # Each public function below checks its input with as_tet_mesh once and hands
 # it to a private twin that trusts it, so that chains of them (the biharmonic
 # matrix, deformation gradients, ARAP's precomputation) check it only once.
 def _barycentric_gradients(V, T):
+    """``(f, 4, 3)``: ``G[t, k] = ∇φ_{T[t, k]}`` on tetrahedron ``t`` (the four sum to zero); row ``k ≥ 1`` is
+    row ``k - 1`` of ``[v1 - v0, v2 - v0, v3 - v0]⁻¹``. No tetrahedron may be flat."""
     return _gradients_and_volumes(V, T)[0]
 
 
