@@ -87,3 +87,21 @@ def owner_gone(pid: int) -> int | None:
         os.close(fd)
         return None
     return fd
+
+
+def _main(argv: list[str]) -> None:
+    """``python -m grader.sandbox.lifetime PARENT COMMAND...``: run COMMAND, SIGKILLed when process PARENT ends.
+
+    For servers started by tests and scripts (``dask scheduler``, ``dask worker``):
+    the request survives ``exec``, so COMMAND keeps it.
+    """
+    if len(argv) < 2 or not argv[0].isdigit():
+        raise SystemExit("usage: python -m grader.sandbox.lifetime PARENT_PID COMMAND [ARG...]")
+    die_with_parent(int(argv[0]))
+    os.execvp(argv[1], argv[1:])
+
+
+if __name__ == "__main__":
+    import sys
+
+    _main(sys.argv[1:])
