@@ -37,6 +37,7 @@ from grader.sandbox.kernel import SandboxedKernelManager
 from grader.sandbox import spares
 from grader.sandbox.workspace import Workspace, workspace
 
+
 @dataclass
 class UnitSpec:
     """Everything one work unit needs, all plain data (no host paths).
