@@ -391,7 +391,7 @@ def grade_in_pool(
             unit = remaining.pop(i)
             yield unit, _grade_alone(unit, spec_of, error_of, readonly, grade)
         if suspects:
-            remove_stale_workspaces()  # what the dead worker held (if older than a few seconds; else the next run)
+            remove_stale_workspaces()  # what the dead worker held (its locks name it: swept at once)
             remove_stale_limits()
 
 
