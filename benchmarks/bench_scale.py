@@ -43,7 +43,7 @@ from grader.paths import CoursePaths, course_paths
 from grader.pipeline import run as run_module
 from grader.pipeline import unit as unit_module
 from grader.pipeline.run import GradeOptions, ensure_gradebook, grade_class
-from grader.sandbox import fork_server
+from grader.sandbox import fork_server, spares
 from grader.sandbox.bwrap import SandboxSpec, sandbox_env
 from tests.course_copy import copy_course_config
 
@@ -271,7 +271,7 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
         fork_server.start_template(sandbox_env(SandboxSpec(workdir=submitted)))
     template = time.perf_counter() - start
     originals = [(owner, name, timers.wrap(owner, name, step, classify)) for owner, name, step, classify in patches]
-    unit_module.prestart_kernels()  # as grading workers do
+    spares.open_pool()  # as grading workers do
     try:
         readonly = [str(paths.data), str(paths.starter)]
         folder = next(iter(sorted(submitted.iterdir()))) / "deformation"
@@ -289,7 +289,7 @@ def _breakdown(paths: CoursePaths, submitted: Path, meter: _CpuMeter) -> dict:
     finally:
         for owner, name, original in originals:
             setattr(owner, name, original)
-        unit_module.prestart_kernels(False)  # the last spare's shut-down is no unit's
+        spares.close_pool()  # the last spare's shut-down is no unit's
         fork_server.stop_template()
     s = timers.seconds
     inside = sum(v for k, v in s.items() if k.startswith("execute: "))

@@ -427,7 +427,7 @@ class SkinningWidget(widgets.VBox):
         return np.einsum("kij,kj->ki", T[which, :, :2], points) + T[which, :, 2]
 
     def press(self, x, y):
-        """Grab the handle nearest to a pixel, if it lies within :attr:`pick_radius`.
+        """Grab the tip nearest to a pixel within :attr:`pick_radius`, else the nearest root joint within it.
 
         Parameters
         ----------
@@ -442,14 +442,19 @@ class SkinningWidget(widgets.VBox):
         """
         at = np.array([[float(x), float(y)]])
         pixels = self.handle_pixels()
-        candidates = [("tip", j, p) for j, p in enumerate(pixels["tips"])]
-        candidates += [("root", int(j), p) for j, p in zip(self.roots, pixels["roots"])]
-        kind, j, p = min(candidates, key=lambda c: np.linalg.norm(c[2] - at[0]))
-        if np.linalg.norm(p - at[0]) > self.pick_radius:
-            self._grabbed = None
-            return None
-        self._grabbed = (kind, j, self.renderer.to_world(at)[0], self.translation)
-        return kind, j
+        # Tips before roots: a bone folded back puts its tip on a root joint, and the
+        # tip under the mouse is the one the user means (a root is grabbed where no tip is).
+        for kind, ids, points in (("tip", range(len(pixels["tips"])), pixels["tips"]), ("root", self.roots, pixels["roots"])):
+            if len(points) == 0:
+                continue
+            distances = np.linalg.norm(points - at[0], axis=1)
+            nearest = int(np.argmin(distances))
+            if distances[nearest] <= self.pick_radius:
+                j = int(ids[nearest])
+                self._grabbed = (kind, j, self.renderer.to_world(at)[0], self.translation)
+                return kind, j
+        self._grabbed = None
+        return None
 
     def drag(self, x, y):
         """Move the grabbed handle to a pixel (nothing happens if none is grabbed).

@@ -20,6 +20,10 @@ at a time in its main thread, as a pool worker does, and keeps what a pool
 worker keeps between units (the kernel template, the next unit's sandbox, the
 reference's outputs). A child that dies is replaced and the unit graded again in
 the new one; a unit whose grading process dies twice is a grader error that says so.
+A grading process dies with its worker, however the worker ends (SIGKILL included),
+and its kernels and sandboxes with it (:mod:`grader.pipeline.workers`); start
+``dask worker`` with ``--death-timeout`` so that a worker whose scheduler is gone
+closes instead of waiting for it forever.
 """
 
 from __future__ import annotations
@@ -99,7 +103,8 @@ class GradingProcess:
     """
 
     def __init__(self):
-        self.process = subprocess.Popen([sys.executable, "-m", "grader.pipeline.distributed"],
+        # It dies with the worker thread that starts it, however the worker ends (grader.pipeline.workers).
+        self.process = subprocess.Popen([sys.executable, "-m", "grader.pipeline.distributed", str(os.getpid())],
                                         stdin=subprocess.PIPE, stdout=subprocess.PIPE)
 
     def call(self, fn: Callable, *args):
@@ -200,9 +205,9 @@ def grade_unit_on_worker(spec: UnitSpec, allow_unsandboxed: bool = False, grade:
             raise GradingProcessDied(f"{exc}, twice") from None
 
 
-def _serve() -> None:
-    """The grading process's loop: each call in this main thread, until the worker closes the pipe (or dies)."""
-    from grader.pipeline.run import _worker_init
+def _serve(worker: int) -> None:
+    """The grading process's loop: each call in this main thread, until the worker (pid ``worker``) closes the pipe or dies."""
+    from grader.pipeline.workers import init_worker
 
     calls = os.fdopen(os.dup(0), "rb")
     answers = os.fdopen(os.dup(1), "wb")
@@ -211,7 +216,7 @@ def _serve() -> None:
     os.dup2(devnull, 0)
     os.close(devnull)
     os.dup2(2, 1)
-    _worker_init()
+    init_worker(worker)
     _sweep()
     while True:
         try:
@@ -255,7 +260,10 @@ def connect(scheduler: str):
         # No statistical profiler (it samples each worker's stack every 10 ms for a dashboard this
         # cluster does not serve) and no GIL monitor: the workers inherit this configuration.
         with dask.config.set({"distributed.worker.profile.enabled": False, "distributed.admin.system-monitor.gil.enabled": False}):
-            cluster = LocalCluster(n_workers=n_local, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None)
+            # Its worker processes exit with this one (distributed watches their parent), and a worker that
+            # lost its scheduler for a minute closes rather than waiting for it forever.
+            cluster = LocalCluster(n_workers=n_local, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None,
+                                   death_timeout=60)
         return Client(cluster), cluster
     try:
         return Client(address, timeout="20s"), None
@@ -392,4 +400,4 @@ def grade_on_dask(
 
 
 if __name__ == "__main__":
-    _serve()
+    _serve(int(sys.argv[1]))

@@ -30,7 +30,8 @@ from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
 from grader.pipeline.sanitize import read_submission_bytes
 from grader.pipeline.submitted import check_submitted, student_folders
-from grader.pipeline.unit import UnitSpec, grade_unit, load_submission, prestart_kernels, zero_result
+from grader.pipeline.unit import UnitSpec, grade_unit, load_submission, zero_result
+from grader.pipeline.workers import init_worker
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES, remove_stale_limits
 from grader.sandbox.workspace import remove_stale_workspaces
@@ -52,14 +53,6 @@ class GradeOptions:
     student: str | None = None  # grade only this student again; the others' results are read from OUT as they are
     scheduler: str | None = None  # a Dask cluster: "tcp://HOST:PORT" or "local:N"; None: a local process pool
     allow_unsandboxed: bool = False  # Dask workers without bubblewrap grade anyway (they refuse units otherwise)
-
-
-def _worker_init() -> None:
-    # Each worker is one of N parallel graders: one BLAS thread each keeps N cores busy, not N².
-    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-        os.environ[var] = "1"
-    # A worker grades unit after unit: each next unit's sandbox boots while the last is verified.
-    prestart_kernels()
 
 
 def find_submission(folder: Path, notebook: str) -> tuple[Path | None, list[str]]:
@@ -346,7 +339,7 @@ def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Cours
 
 def _pool(workers: int) -> ProcessPoolExecutor:
     # spawn, not fork: a forked child inherits jupyter's event-loop thread as a dead handle and hangs.
-    return ProcessPoolExecutor(max_workers=workers, initializer=_worker_init, mp_context=multiprocessing.get_context("spawn"))
+    return ProcessPoolExecutor(max_workers=workers, initializer=init_worker, initargs=(os.getpid(),), mp_context=multiprocessing.get_context("spawn"))
 
 
 def grade_in_pool(
@@ -398,7 +391,7 @@ def grade_in_pool(
             unit = remaining.pop(i)
             yield unit, _grade_alone(unit, spec_of, error_of, readonly, grade)
         if suspects:
-            remove_stale_workspaces()  # what the dead worker held (if older than a few seconds; else the next run)
+            remove_stale_workspaces()  # what the dead worker held (its locks name it: swept at once)
             remove_stale_limits()
 
 

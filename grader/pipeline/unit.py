@@ -10,15 +10,10 @@ the dict; recording stays in one process (``grader.pipeline.record``).
 
 from __future__ import annotations
 
-import atexit
 import contextlib
-import functools
 import hashlib
 import json
-import logging
 import re
-import multiprocessing.util
-import threading
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -39,9 +34,8 @@ from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.report.digest import output_digest
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 from grader.sandbox.kernel import SandboxedKernelManager
+from grader.sandbox import spares
 from grader.sandbox.workspace import Workspace, workspace
-
-log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -174,73 +168,6 @@ def grade_unit(spec: UnitSpec, readonly: list[str] | None = None) -> dict:
         return _grader_error(spec, source, exc, started)
 
 
-@dataclass
-class _Spare:
-    """A sandbox started ahead of time for this process's next unit: a workspace and kernel of its own."""
-
-    key: tuple
-    stack: contextlib.ExitStack  # holds the workspace
-    ws: Workspace
-    km: SandboxedKernelManager
-
-    def close(self) -> None:
-        try:
-            if self.km.has_kernel:
-                self.km.shutdown_kernel(now=True)
-        finally:
-            self.stack.close()
-
-
-# One spare per thread that grades (a Dask worker may run several): a kernel is tied to the thread
-# that launched it (bwrap --die-with-parent), and a spare taken by one unit is gone for every other.
-_spares: dict[int, _Spare] = {}
-_spares_lock = threading.Lock()
-_prestarting = False
-
-
-def _take_spare() -> _Spare | None:
-    """This thread's spare, removed from the pool of spares: no other unit can be handed it."""
-    with _spares_lock:
-        return _spares.pop(threading.get_ident(), None)
-
-
-def spare_sandbox() -> _Spare | None:
-    """The sandbox pre-started for this thread's next unit, if any (for tests and benchmarks)."""
-    with _spares_lock:
-        return _spares.get(threading.get_ident())
-
-
-def prestart_kernels(enabled: bool = True) -> None:
-    """Whether this process launches each next unit's sandbox while it verifies the current unit.
-
-    Grading workers turn it on (``grader.pipeline.run``, ``grader.pipeline.distributed``):
-    the next kernel then boots while this unit is verified, recorded and shipped. Off by
-    default, so that a lone ``grade_unit`` call leaves nothing running. A pre-started sandbox
-    is new (workspace, kernel, process cap) and serves exactly one unit; it is discarded
-    unless that unit's limits are the ones it was started with, and at this process's exit.
-    """
-    global _prestarting
-    _prestarting = enabled
-    if enabled:
-        _register_discard()
-    else:
-        _discard_spares()
-
-
-@functools.cache
-def _register_discard() -> None:
-    atexit.register(_discard_spares)
-    multiprocessing.util.Finalize(None, _discard_spares, exitpriority=100)  # pool workers exit without atexit
-
-
-def _discard_spares() -> None:
-    with _spares_lock:
-        spares = list(_spares.values())
-        _spares.clear()
-    for spare in spares:
-        spare.close()
-
-
 def _sandbox_key(spec: UnitSpec, readonly: list[str]) -> tuple:
     """What a pre-started sandbox was made for: the unit's limits and the course paths it may read."""
     return (spec.disk_bytes, spec.memory_bytes, spec.max_processes, tuple(map(str, readonly)))
@@ -249,10 +176,8 @@ def _sandbox_key(spec: UnitSpec, readonly: list[str]) -> tuple:
 @contextlib.contextmanager
 def _sandbox(spec: UnitSpec, readonly: list[str]):
     """``(workspace, kernel or None)`` for one unit: the spare started for it, else a new workspace."""
-    spare = _take_spare()
-    if spare is not None and (spare.key != _sandbox_key(spec, readonly) or not spare.km.is_alive()):
-        spare.close()
-        spare = None
+    pool = spares.pool()
+    spare = pool.take(_sandbox_key(spec, readonly)) if pool is not None else None
     if spare is None:
         with workspace(spec.disk_bytes) as ws:
             yield ws, None
@@ -263,33 +188,9 @@ def _sandbox(spec: UnitSpec, readonly: list[str]):
         spare.close()  # execute shut the kernel down already, unless the unit failed before it ran
 
 
-def _prestart_next(spec: UnitSpec, readonly: list[str]) -> None:
-    """Launch the sandbox of this process's next unit, assuming it has ``spec``'s limits (a class's units do)."""
-    old = _take_spare()
-    if old is not None:
-        old.close()
-    stack = contextlib.ExitStack()
-    try:
-        ws = stack.enter_context(workspace(spec.disk_bytes))
-        km = prestart(ws.work, _execute_options(spec, readonly, ws))
-    except Exception:  # noqa: BLE001 - the next unit starts its own sandbox, as without a spare
-        stack.close()
-        log.warning("could not pre-start the next unit's sandbox", exc_info=True)
-        return
-    with _spares_lock:
-        _spares[threading.get_ident()] = _Spare(_sandbox_key(spec, readonly), stack, ws, km)
-
-
-def _complete_spare_launch() -> None:
-    """Fork the kernel of this thread's spare into its sandbox (:func:`prestart` only launched the sandbox)."""
-    spare = spare_sandbox()
-    if spare is None:
-        return
-    try:
-        spare.km.complete_launch()
-    except Exception:  # noqa: BLE001 - the next unit starts its own sandbox, as without a spare
-        log.warning("could not start the next unit's kernel", exc_info=True)
-        _take_spare().close()
+def _prestart_next(pool: spares.SparePool, spec: UnitSpec, readonly: list[str]) -> None:
+    """Launch the sandbox of this thread's next unit, assuming it has ``spec``'s limits (a class's units do)."""
+    pool.launch(_sandbox_key(spec, readonly), spec.disk_bytes, lambda ws: prestart(ws.work, _execute_options(spec, readonly, ws)))
 
 
 def _execute_options(spec: UnitSpec, readonly: list[str], ws: Workspace) -> ExecuteOptions:
@@ -327,8 +228,9 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
         _execute_options(spec, readonly, ws),
         kernel=kernel,
     )
-    if _prestarting:  # the student's kernel is gone: the next unit's boots while this one is verified
-        _prestart_next(spec, readonly)
+    pool = spares.pool()  # open in grading workers (grader.pipeline.workers)
+    if pool is not None:  # the student's kernel is gone: the next unit's boots while this one is verified
+        _prestart_next(pool, spec, readonly)
     failed_defs = {fn: i for i, _ in run.cell_failures.items() for fn in _defined(sanitized.nb.cells[i])}
     tests, results = [], []
     for cell in cells:
@@ -370,7 +272,8 @@ def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSp
                 ],
             }
         )
-    _complete_spare_launch()  # its sandbox was built while this unit was verified; its kernel boots now
+    if pool is not None:  # its sandbox was built while this unit was verified; its kernel boots now
+        pool.complete_launch()
     reasons = [f"{_cell_name(sanitized.nb.cells[i])}: {why}" for i, why in sorted(run.cell_failures.items())]
     status = "grader-error" if broken else "graded" if not run.events else "graded-with-incidents"
     reasons += list(broken.values())

@@ -414,14 +414,17 @@ def _bwrap_args(spec: SandboxSpec, binds: Sequence[tuple[str, Path]] = (), pid_1
     return args
 
 
-# Without bwrap: start a new session (unless the launcher already made this
-# process a session leader, as jupyter_client does), enter the workdir, exec.
+# Without bwrap: die with the grader's launching thread (what --die-with-parent does; it survives
+# exec), start a new session (unless the launcher already made this process a session leader, as
+# jupyter_client does), enter the workdir, exec.
 _SESSION_LAUNCHER = (
-    "import os, sys\n"
+    "import ctypes, os, sys\n"
+    "if ctypes.CDLL(None, use_errno=True).prctl(1, 9, 0, 0, 0) != 0 or os.getppid() != int(sys.argv[1]):\n"
+    "    os._exit(1)\n"
     "if os.getsid(0) != os.getpid():\n"
     "    os.setsid()\n"
-    "os.chdir(sys.argv[1])\n"
-    "os.execvp(sys.argv[2], sys.argv[2:])\n"
+    "os.chdir(sys.argv[2])\n"
+    "os.execvp(sys.argv[3], sys.argv[3:])\n"
 )
 
 
@@ -470,5 +473,5 @@ def wrap_command(argv: list[str], spec: SandboxSpec, binds: Sequence[tuple[str, 
         raise ValueError("pid_1 needs bubblewrap, which is not available here")
     _warn_without_bwrap()
     env = [f"{k}={v}" for k, v in sandbox_env(spec).items()]
-    launcher = [sys.executable, "-I", "-S", "-c", _SESSION_LAUNCHER, str(spec.workdir)]
+    launcher = [sys.executable, "-I", "-S", "-c", _SESSION_LAUNCHER, str(os.getpid()), str(spec.workdir)]
     return ["env", "-i", *env, *limits, *launcher, *argv]

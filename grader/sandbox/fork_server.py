@@ -112,7 +112,7 @@ def _template_env(env: dict[str, str]) -> dict[str, str]:
 
 def _start(env: dict[str, str]) -> subprocess.Popen:
     proc = subprocess.Popen(
-        [sys.executable, "-s", str(TEMPLATE)],
+        [sys.executable, "-s", str(TEMPLATE), str(os.getpid())],  # it exits when this process does, however it ends
         stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,

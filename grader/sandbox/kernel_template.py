@@ -1,7 +1,8 @@
 """The kernel template: imports an IPython kernel's libraries once, then forks one kernel per sandbox.
 
-Run by the grader as ``python kernel_template.py`` (never imported), on the
-host, with the sandbox's environment. It imports ipykernel, numpy, scipy,
+Run by the grader as ``python kernel_template.py OWNER_PID`` (never imported),
+on the host, with the sandbox's environment; it exits when its owner, the
+grading process, does (however it ends) or closes its input. It imports ipykernel, numpy, scipy,
 libigl and the course's ``starter`` package, then serves requests, one JSON
 object per line on stdin, each answered by one line on stdout. It never runs
 student code and never holds any: a request names a sandbox that bubblewrap
@@ -55,6 +56,7 @@ import importlib  # noqa: E402
 import json  # noqa: E402
 import os  # noqa: E402
 import resource  # noqa: E402
+import select  # noqa: E402
 import signal  # noqa: E402
 import struct  # noqa: E402
 
@@ -240,19 +242,54 @@ def _fork_kernel(request: dict) -> dict:
     return json.loads(text) if text else {"error": "the template's child died before it reported"}
 
 
+def _owner_gone(owner: int) -> int | None:
+    """A descriptor readable once the grading process ``owner`` has exited; ``None`` if it is gone already.
+
+    Not ``PR_SET_PDEATHSIG``: that fires when the *thread* that started the template ends,
+    and a grading process may start it from a short-lived thread.
+    """
+    try:
+        fd = os.pidfd_open(owner)
+    except ProcessLookupError:
+        return None
+    if os.getppid() != owner:  # re-parented before the descriptor was open
+        os.close(fd)
+        return None
+    return fd
+
+
+def _requests(owner: int):
+    """The request lines on stdin, until stdin closes or the owner (the grading process that started this) exits."""
+    gone = _owner_gone(owner)
+    if gone is None:
+        return
+    requests = os.fdopen(0, "rb", buffering=0)
+    poller = select.poll()
+    poller.register(0, select.POLLIN)
+    poller.register(gone, select.POLLIN)
+    while True:
+        events = dict(poller.poll())
+        if gone in events:  # killed, say: its kernels' sandboxes die with it (bwrap --die-with-parent)
+            return
+        line = requests.readline()
+        if not line:
+            return
+        yield line
+
+
 def main() -> None:
+    owner = int(sys.argv[1])
     _check(_libc.prctl(_PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0), "become a child subreaper")
     # Its children, and the kernels they leave to it (it is their subreaper), are reaped as
     # they exit: a sandbox's pid namespace ends only once every process in it is reaped.
     signal.signal(signal.SIGCHLD, signal.SIG_IGN)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the grader's ^C is for the grader: it stops this template
-    requests = os.fdopen(0, "rb", buffering=0)
     replies = os.fdopen(1, "wb", buffering=0)
     # What is imported lives as long as every kernel: out of the collector's sight, a
     # kernel's collections neither walk it nor copy its pages (copy-on-write).
     gc.freeze()
     replies.write(b'{"ready": true}\n')
-    for line in iter(requests.readline, b""):
+    for line in _requests(owner):
         try:
             reply = _fork_kernel(json.loads(line))
         except Exception as exc:  # noqa: BLE001

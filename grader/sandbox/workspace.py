@@ -9,9 +9,10 @@ Layout of one workspace ``/tmp/dl-unit-XXXX/`` (mode 0700, the grader's own)::
                ``work/``, so nothing the student writes is where the host reads
                or writes its own files)
 
-While in use a workspace holds an ``flock`` on ``/tmp/dl-unit-XXXX.lock``. A grader
-killed mid-unit releases it with its death, and :func:`remove_stale_workspaces`
-removes (and unmounts) what it left behind.
+While in use a workspace holds an ``flock`` on ``/tmp/dl-unit-XXXX.lock``, which
+names its owner (the grading process's pid and start time). A grader killed
+mid-unit releases the lock with its death, and :func:`remove_stale_workspaces`
+(the first step of every grading run) removes (and unmounts) what it left behind.
 """
 
 from __future__ import annotations
@@ -29,6 +30,8 @@ import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+
+from grader.sandbox.lifetime import Owner, alive, mark
 
 __all__ = ["Workspace", "workspace", "remove_stale_workspaces", "PREFIX"]
 
@@ -121,6 +124,8 @@ def workspace(size_bytes: int, parent: str | Path | None = None) -> Iterator[Wor
     lock = open(root.with_name(root.name + ".lock"), "w")  # noqa: SIM115 - held for the whole block
     try:
         fcntl.flock(lock, fcntl.LOCK_EX)
+        lock.write("%d %r\n" % mark())
+        lock.flush()
         work, kernels = root / "work", root / "kernels"
         work.mkdir()
         kernels.mkdir(mode=0o700)
@@ -133,7 +138,7 @@ def workspace(size_bytes: int, parent: str | Path | None = None) -> Iterator[Wor
 
 
 def remove_stale_workspaces(parent: str | Path | None = None) -> list[Path]:
-    """Remove workspaces whose grader died (their lock is free).
+    """Remove workspaces whose grader died (their lock is free and its owner gone).
 
     Parameters
     ----------
@@ -154,10 +159,14 @@ def remove_stale_workspaces(parent: str | Path | None = None) -> list[Path]:
         except OSError:
             continue
         try:
-            # A lock only seconds old may belong to a workspace being created right now.
-            if time.time() - os.fstat(fd).st_mtime < _MIN_STALE_SECONDS:
-                raise BlockingIOError
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            owner = _owner(fd)
+            if owner is None:
+                # Unmarked: a lock only seconds old may belong to a workspace being created right now.
+                if time.time() - os.fstat(fd).st_mtime < _MIN_STALE_SECONDS:
+                    raise BlockingIOError
+            elif alive(owner):
+                raise BlockingIOError
         except OSError:  # its grader is alive
             os.close(fd)
             continue
@@ -169,3 +178,12 @@ def remove_stale_workspaces(parent: str | Path | None = None) -> list[Path]:
         finally:
             os.close(fd)
     return removed
+
+
+def _owner(fd: int) -> Owner | None:
+    """The owner a lock file names, ``None`` if it names none (yet)."""
+    try:
+        pid, started = os.pread(fd, 64, 0).decode("ascii").split()
+        return int(pid), float(started)
+    except (OSError, ValueError, UnicodeDecodeError):
+        return None

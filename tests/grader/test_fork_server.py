@@ -197,3 +197,48 @@ def test_the_template_refuses_a_request_for_a_sandbox_that_is_gone_and_serves_th
         assert _run(km, "print(6 * 7)") == "42\n"
     finally:
         km.shutdown_kernel(now=True)
+
+
+def test_the_template_and_its_kernels_sandbox_die_with_a_grading_process_killed_outright(tmp_path):
+    import contextlib
+    import signal
+    import subprocess
+    import sys
+
+    import psutil
+
+    # A grading process that starts its template from a short-lived thread (as a kernel launch
+    # does): the template must outlive that thread, and not its process.
+    code = (
+        "import os, sys, threading, time\n"
+        "from grader.sandbox import SandboxedKernelManager, SandboxSpec, fork_server\n"
+        "t = threading.Thread(target=fork_server.start_template, args=({'OPENBLAS_NUM_THREADS': '1'},))\n"
+        "t.start(); t.join()\n"
+        f"km = SandboxedKernelManager(SandboxSpec(workdir={str(tmp_path)!r}), runtime_root={str(tmp_path)!r})\n"
+        "km.start_kernel()\n"
+        # a child forked now holds the template's input open: its end of file never comes
+        "holder = os.fork()\n"
+        "if holder == 0:\n"
+        "    time.sleep(600)\n"
+        "    os._exit(0)\n"
+        "print(fork_server._template.pid, km.forked, holder, flush=True)\n"
+        "time.sleep(600)\n"
+    )
+    grader = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    holder = None
+    try:
+        template, forked, holder = grader.stdout.readline().split()
+        assert forked == "True"
+        tree = [p.pid for p in psutil.Process(grader.pid).children(recursive=True) if p.pid != int(holder)]
+        assert int(template) in tree and len(tree) >= 4  # template, bwrap, the waiter, the kernel
+        watched = [psutil.Process(pid) for pid in tree]
+        grader.send_signal(signal.SIGKILL)
+        grader.wait()
+        _, alive = psutil.wait_procs(watched, timeout=120)
+        assert alive == []
+    finally:
+        grader.kill()
+        grader.wait()
+        if holder:
+            with contextlib.suppress(psutil.Error):
+                psutil.Process(int(holder)).kill()

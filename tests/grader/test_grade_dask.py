@@ -42,7 +42,9 @@ ENTRIES = [e for e in load_corpus(ROOT / "tests" / "corpus") if e.name in
 
 
 def _start(args: list[str], log: Path, env: dict) -> subprocess.Popen:
-    return subprocess.Popen([str(BIN / "dask"), *args], stdout=open(log, "wb"), stderr=subprocess.STDOUT, env=env)
+    """``dask ARGS``, which dies with this process however it ends (a time limit's SIGKILL included)."""
+    owned = [sys.executable, "-m", "grader.sandbox.lifetime", str(os.getpid())]
+    return subprocess.Popen([*owned, str(BIN / "dask"), *args], stdout=open(log, "wb"), stderr=subprocess.STDOUT, env=env)
 
 
 def _wait_for(predicate, timeout: float, what: str):
@@ -81,7 +83,8 @@ def started_cluster(tmp: Path, env: dict, sandboxing: tuple[str, ...]):
     try:
         _wait_for(scheduler_file.is_file, 60, "the scheduler's address")
         address = json.loads(scheduler_file.read_text())["address"]
-        common = ["worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard", "--host", "127.0.0.1"]
+        # --death-timeout: a worker that lost its scheduler closes instead of waiting for it forever
+        common = ["worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard", "--host", "127.0.0.1", "--death-timeout", "60"]
         workers = {}
         for name in sandboxing:
             workers[name] = _start([*common, "--name", name, "--local-directory", str(tmp / name)], tmp / f"{name}.log", env)

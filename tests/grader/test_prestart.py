@@ -8,7 +8,8 @@ import nbformat
 import pytest
 
 from grader.corpus import student_notebook, teaching_cell
-from grader.pipeline.unit import UnitSpec, grade_unit, prestart_kernels, spare_sandbox
+from grader.pipeline.unit import UnitSpec, grade_unit
+from grader.sandbox import spares
 from grader.sandbox.bwrap import bwrap_available
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -45,11 +46,17 @@ def spec_of(source_notebooks):
     return make
 
 
+def spare_sandbox():
+    """This thread's spare, if a pool is open."""
+    pool = spares.pool()
+    return pool.peek() if pool is not None else None
+
+
 @pytest.fixture
 def prestarting():
-    prestart_kernels()
+    spares.open_pool()
     yield
-    prestart_kernels(False)
+    spares.close_pool()
 
 
 def test_each_unit_gets_a_new_sandbox_pre_started_for_it_alone(spec_of, prestarting):
@@ -83,13 +90,13 @@ def test_a_unit_with_other_limits_gets_a_sandbox_with_its_own_limits(spec_of, pr
 
 def test_turning_pre_start_off_leaves_no_kernel_or_workspace(spec_of):
     readonly = [os.path.join(REPO, "data"), os.path.join(REPO, "starter")]
-    prestart_kernels()
+    spares.open_pool()
     try:
         grade_unit(spec_of("ada"), readonly)
         spare = spare_sandbox()
         assert spare is not None
     finally:
-        prestart_kernels(False)
+        spares.close_pool()
     assert spare_sandbox() is None
     assert not spare.km.is_alive() and not os.path.exists(spare.ws.root)
 

@@ -6,6 +6,7 @@ import logging
 import subprocess
 import sys
 import textwrap
+import time
 
 import pytest
 
@@ -77,3 +78,35 @@ def test_kernel_hits_the_memory_cap_and_shutdown_kills_its_children(no_bwrap, sp
         kc.stop_channels()
         km.shutdown_kernel(now=True)
     assert b"sleep\x00987653\x00" not in host_cmdlines()
+
+
+def test_an_unsandboxed_command_dies_with_the_grader_killed_outright(tmp_path):
+    import signal
+
+    import psutil
+
+    # bwrap's --die-with-parent, without bwrap: the command outlives no grader, SIGKILL included
+    (tmp_path / "student").mkdir()
+    code = textwrap.dedent(f"""
+        import subprocess, time
+        from grader.sandbox import bwrap
+        bwrap.bwrap_available = lambda: False
+        spec = bwrap.SandboxSpec(workdir={str(tmp_path / "student")!r})
+        child = subprocess.Popen(bwrap.wrap_command(["sleep", "600"], spec))
+        print(child.pid, flush=True)
+        time.sleep(600)
+    """)
+    grader = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    try:
+        command = psutil.Process(int(grader.stdout.readline()))
+        deadline = time.monotonic() + 60
+        while command.is_running() and command.name() != "sleep" and time.monotonic() < deadline:
+            time.sleep(0.05)  # still the launcher: the prctl comes before the exec
+        assert command.name() == "sleep"
+        grader.send_signal(signal.SIGKILL)
+        grader.wait()
+        _, alive = psutil.wait_procs([command], timeout=120)
+        assert alive == []
+    finally:
+        grader.kill()
+        grader.wait()

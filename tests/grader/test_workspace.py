@@ -8,9 +8,10 @@ import subprocess
 import sys
 import time
 
+import psutil
 import pytest
 
-from grader.sandbox import workspace as ws_module
+from grader.sandbox.lifetime import mark
 from grader.sandbox.workspace import remove_stale_workspaces, workspace
 
 MiB = 2**20
@@ -46,8 +47,8 @@ def test_the_kernels_folder_is_outside_the_workdir_and_private(tmp_path):
         assert ws.kernels.stat().st_mode & 0o077 == 0 and ws.root.stat().st_mode & 0o077 == 0
 
 
-def test_a_killed_graders_workspace_is_swept_and_a_live_one_is_kept(tmp_path, monkeypatch):
-    monkeypatch.setattr(ws_module, "_MIN_STALE_SECONDS", 0)
+def test_a_killed_graders_workspace_is_swept_at_once_and_a_live_one_is_kept(tmp_path):
+    # no wait: the lock names its owner (pid and start time), whom psutil finds dead
     code = (
         "import os, sys, time\n"
         "from grader.sandbox.workspace import workspace\n"
@@ -71,7 +72,18 @@ def test_a_killed_graders_workspace_is_swept_and_a_live_one_is_kept(tmp_path, mo
         grader.wait()
 
 
-def test_a_lock_only_seconds_old_is_never_swept(tmp_path):
+def test_a_free_lock_whose_owner_still_runs_is_kept(tmp_path):
+    (tmp_path / "dl-unit-mine").mkdir()
+    (tmp_path / "dl-unit-mine.lock").write_text("%d %r\n" % mark())
+    old = time.time() - 60
+    os.utime(tmp_path / "dl-unit-mine.lock", (old, old))
+    assert remove_stale_workspaces(tmp_path) == []
+    started = psutil.Process().create_time()
+    (tmp_path / "dl-unit-mine.lock").write_text(f"{os.getpid()} {started - 5}\n")  # a pid reused since its owner died
+    assert remove_stale_workspaces(tmp_path) == [tmp_path / "dl-unit-mine"]
+
+
+def test_an_unmarked_lock_only_seconds_old_is_never_swept(tmp_path):
     (tmp_path / "dl-unit-fresh").mkdir()
     (tmp_path / "dl-unit-fresh.lock").write_text("")
     assert remove_stale_workspaces(tmp_path) == []
