@@ -46,8 +46,19 @@ DEFAULT_MEMORY_BYTES = 4 * 2**30
 DEFAULT_CPU_SECONDS = 3600
 DEFAULT_FILE_BYTES = 2**30
 
-# Top-level packages the student must never import, masked wherever they are installed.
-HIDDEN_PACKAGES = ("reference", "grader")
+# The engine, never importable by a student; every course pack adds its reference and hidden packages.
+ENGINE_PACKAGES = ("grader",)
+
+
+def hidden_packages() -> tuple[str, ...]:
+    """Top-level packages the student must never import, masked wherever they are installed:
+    the engine's and every course pack's reference and ``hidden_packages`` (a pack's own folder is never bound)."""
+    from grader.course_pack import PACKAGE, packs
+
+    names = set(ENGINE_PACKAGES)
+    for course in packs().values():
+        names |= {n for n in (*course.hidden_packages, *course.reference_packages()) if n != PACKAGE}
+    return tuple(sorted(names))
 
 # What Python, numpy, matplotlib and the shell tools need from /etc; the rest of
 # /etc (package-manager credentials, ssh, shadow) stays out of sight.
@@ -321,7 +332,7 @@ def _is_within(path: Path, root: Path) -> bool:
 def _hidden_paths(spec: SandboxSpec) -> list[Path]:
     """``spec.hide`` plus where the hidden packages are installed."""
     hidden = list(spec.hide)
-    for name in HIDDEN_PACKAGES:
+    for name in hidden_packages():
         found = importlib.util.find_spec(name)
         if found is None:
             continue

@@ -110,9 +110,17 @@ def _template_env(env: dict[str, str]) -> dict[str, str]:
     return {**{k: v for k, v in env.items() if k != "PWD"}, "HOME": "/nonexistent"}
 
 
+def preloads() -> list[str]:
+    """The modules every course pack's kernels import (``preload`` in its assignment.toml), for the template."""
+    from grader.course_pack import packs
+
+    return sorted({name for course in packs().values() for name in course.preload})
+
+
 def _start(env: dict[str, str]) -> subprocess.Popen:
     proc = subprocess.Popen(
-        [sys.executable, "-s", str(TEMPLATE), str(os.getpid())],  # it exits when this process does, however it ends
+        # it exits when this process does, however it ends; it preloads what the course packs name
+        [sys.executable, "-s", str(TEMPLATE), str(os.getpid()), json.dumps(preloads())],
         stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,

@@ -397,7 +397,7 @@ def test_hidden_packages_and_paths_inside_mounted_trees_are_masked(tmp_path, mon
     (site / "gradebook.db").write_text("grades")
     (tmp_path / "student").mkdir()
     monkeypatch.syspath_prepend(str(site))
-    monkeypatch.setattr(bwrap, "HIDDEN_PACKAGES", ("fake_reference",))
+    monkeypatch.setattr(bwrap, "hidden_packages", lambda: ("fake_reference",))
     spec = SandboxSpec(workdir=tmp_path / "student", readonly=[site], hide=[site / "gradebook.db"])
     code = textwrap.dedent(
         f"""
@@ -599,3 +599,11 @@ def test_waiting_for_a_kernel_that_dies_during_start_up_raises_a_clear_error(tmp
         kc.stop_channels()
     finally:
         km.shutdown_kernel(now=True)
+
+
+def test_the_engine_and_every_course_pack_s_reference_are_hidden_and_the_packs_preloads_are_the_template_s():
+    from grader.sandbox.fork_server import preloads
+
+    assert {"grader", "reference"} <= set(bwrap.hidden_packages())
+    assert "deformlab_packs" not in bwrap.hidden_packages()
+    assert {"igl", "starter", "starter.posing"} <= set(preloads())

@@ -33,12 +33,13 @@ def test_library_policy_md_lists_exactly_the_table_of_starter_library_policy():
         if found:
             assert found[1] not in rows, f"{found[1]} has two rows"
             rows[found[1]] = (_names(found[2]), _names(found[3]))
-    assert rows == {f: (OWN[f], BUILDS_ON[f]) for f in OWN}
+    # the deformation course's table (other packs declare their own rows: test below)
+    assert rows == {f: (OWN[f], BUILDS_ON[f]) for f in CONTRACT_NAMES}
 
 
 def test_every_graded_function_of_the_three_contract_files_has_a_policy_and_builds_only_on_graded_functions():
-    assert set(OWN) == set(BUILDS_ON) == set(CONTRACT_NAMES)
-    assert all(set(bases) <= set(OWN) for bases in BUILDS_ON.values())
+    assert set(CONTRACT_NAMES) <= set(OWN) and set(OWN) == set(BUILDS_ON)
+    assert all(set(BUILDS_ON[f]) <= set(CONTRACT_NAMES) for f in CONTRACT_NAMES)
     for function in OWN:  # no cycle: forbidden() terminates and contains each base's routines
         assert all(set(forbidden(b)) <= set(forbidden(function)) for b in BUILDS_ON[function])
 
@@ -65,8 +66,22 @@ def test_the_issues_shortcuts_are_forbidden_and_general_tools_are_not():
     assert "igl.massmatrix" in forbidden("tet_biharmonic_matrix")  # tet_mass_matrix is graded
     assert "scipy.linalg.polar" in forbidden("tet_arap_rotations") and "scipy.linalg.polar" in forbidden("arap_solve")
     assert "scipy.spatial.transform.Rotation.from_matrix" not in forbidden("dual_quaternions")
-    for function in OWN:
+    for function in CONTRACT_NAMES:
         assert not {r for r in forbidden(function) if r.startswith(("numpy.", "scipy.sparse", "scipy.optimize"))}
+
+
+def test_a_course_pack_declares_its_own_rows_and_a_conflicting_row_is_refused():
+    from grader.course_pack import pack
+
+    smoothing = pack("smoothing")  # discovery declared its [policy] table
+    assert set(smoothing.functions) <= set(OWN)
+    assert "igl.cotmatrix" in forbidden("cotangent_matrix") and "scipy.sparse.csgraph.laplacian" in forbidden("uniform_laplacian")
+    library_policy.declare(smoothing.policy, smoothing.builds_on)  # the same rows again: nothing changes
+    with pytest.raises(ValueError, match="already has 'cotangent_laplacian' with other routines"):
+        library_policy.declare({"cotangent_laplacian": ()})
+    with pytest.raises(ValueError, match=r"knows no graded function \['nowhere'\]"):
+        library_policy.declare({"fresh_function": ()}, {"fresh_function": ("nowhere",)})
+    assert "fresh_function" not in OWN
 
 
 def test_the_message_names_the_function_the_routine_and_the_function_to_call_instead():
