@@ -44,6 +44,9 @@ K, WINDOW = 15, 4
 SIMILARITY_THRESHOLD = 0.7
 #: ... or from this much rarity-weighted identical wrong output.
 WRONG_OUTPUT_THRESHOLD = 2.0
+#: The sketch is designed to find every pair from this code similarity on (a Jaccard index of about 0.4
+#: and over, ``grader.report.minhash``); under it ``rank_pairs`` compares every pair.
+SKETCH_FLOOR = 0.7
 #: Characters of each side's code shown in the report.
 MAX_SHOWN = 6000
 #: Bytes (UTF-8) of one student's own solution code per notebook that the pass compares; the rest is cut
@@ -171,9 +174,34 @@ def _fingerprint(code: str, shared_hashes):
     return CodeFingerprint("solution.py", K, WINDOW, boilerplate=shared_hashes, fp=io.StringIO(code))
 
 
+def candidate_pairs(prints: dict, wrong: dict[str, dict[str, str]]) -> list[tuple[str, str]]:
+    """Pairs that may reach either threshold, from sketches (``grader.report.minhash``), sorted.
+
+    Parameters
+    ----------
+    prints : dict
+        Student id -> copydetect ``CodeFingerprint``.
+    wrong : dict
+        Student id -> {hidden case label -> digest of their wrong output}.
+    """
+    import numpy as np
+
+    from grader.report.minhash import code_candidates, wrong_output_candidates
+
+    ids = sorted(prints)
+    sets = [np.fromiter(prints[sid].hashes, dtype=np.int64, count=len(prints[sid].hashes)) for sid in ids]
+    pairs = {(ids[i], ids[j]) for i, j in code_candidates(sets)}
+    return sorted(pairs | wrong_output_candidates(wrong, WRONG_OUTPUT_THRESHOLD))
+
+
 def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[str, str]] | None = None,
-               notebook: str = "", similarity_threshold: float = SIMILARITY_THRESHOLD) -> list[dict]:
+               notebook: str = "", similarity_threshold: float = SIMILARITY_THRESHOLD,
+               exhaustive: bool = False) -> list[dict]:
     """Pairs of students above either threshold, strongest evidence first.
+
+    Only candidate pairs (``candidate_pairs``: a sketch, near-linear in the class) are compared
+    exactly, unless ``exhaustive`` or a ``similarity_threshold`` under ``SKETCH_FLOOR``, which
+    compare every pair.
 
     Parameters
     ----------
@@ -185,6 +213,8 @@ def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[s
         Student id -> {hidden case label -> digest of their wrong output}.
     similarity_threshold : float, optional
         Code similarity from which a pair is reported (0 reports every pair).
+    exhaustive : bool, optional
+        Compare every pair (quadratic), as the pass did before the sketch; for tests and benchmarks.
     """
     import numpy as np
     from copydetect import CodeFingerprint, compare_files
@@ -200,8 +230,12 @@ def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[s
     for cases in wrong.values():
         for label, digest in cases.items():
             holders[(label, digest)] += 1
+    if exhaustive or similarity_threshold < SKETCH_FLOOR:
+        compared = itertools.combinations(sorted(set(prints) | set(wrong)), 2)
+    else:
+        compared = candidate_pairs(prints, wrong)
     pairs = []
-    for a, b in itertools.combinations(sorted(set(prints) | set(wrong)), 2):
+    for a, b in compared:
         similarity = 0.0
         if a in prints and b in prints:
             _, (s1, s2), _ = compare_files(prints[a], prints[b])
