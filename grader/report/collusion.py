@@ -327,7 +327,8 @@ def limited_collusion(results: list[dict], submitted: Path, sources: list[Path],
     job = {"results": slim, "submitted": str(submitted), "sources": [str(p) for p in sources], "assignment": assignment,
            "memory_bytes": caps.memory_bytes, "cpu_seconds": cpu, "max_code_bytes": caps.max_code_bytes}
     # One BLAS thread: the pass does no linear algebra, and each thread would reserve address space.
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    # A fixed PYTHONHASHSEED: copydetect hashes k-grams with Python's hash(), so the same class gets the same report.
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1", PYTHONHASHSEED="0")
     child = subprocess.Popen([sys.executable, "-m", "grader.report.collusion"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, env=env)
     try:
