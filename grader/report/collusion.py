@@ -34,6 +34,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import nbformat
+import numpy as np
 
 from grader.build.authored import BEGIN_SOLUTION, END_SOLUTION
 from grader.pipeline.sanitize import SubmissionError, read_submission
@@ -168,11 +169,62 @@ def student_code(path: Path, shared: list[str]) -> str:
     return "\n\n".join(text for _, text in sorted(cells.items()) if text.strip() and text.strip() not in plain)
 
 
-def _fingerprint(code: str, shared_hashes):
+@dataclass
+class _Fingerprint:
+    """A copydetect ``CodeFingerprint`` kept as two arrays, and ``_similarity`` of two of them.
+
+    A whole ``CodeFingerprint`` keeps the raw and filtered code, a per-token offset table and a
+    dict of lists per hash: about 245 KiB per student on 03_arap, so a class of 10,000 did not fit
+    the pass's memory cap. These arrays take 8 bytes per occurrence and 8 per distinct hash.
+
+    Attributes
+    ----------
+    unique : (u,) numpy.ndarray of int64
+        The winnowed k-gram hashes that are not boilerplate, sorted, without repeats.
+    which : (h,) numpy.ndarray of int32
+        One per occurrence of a hash: its index in ``unique``.
+    positions : (h,) numpy.ndarray of int32
+        Where each occurrence is in the filtered code.
+    token_coverage : int
+        Tokens of the filtered code that some winnowed hash covers (copydetect's denominator).
+    empty : bool
+        The filtered code is empty.
+    """
+
+    unique: np.ndarray
+    which: np.ndarray
+    positions: np.ndarray
+    token_coverage: int
+    empty: bool
+
+
+def _fingerprint(code: str, shared_hashes) -> _Fingerprint:
     from copydetect import CodeFingerprint
 
-    return CodeFingerprint("solution.py", K, WINDOW, boilerplate=shared_hashes, fp=io.StringIO(code))
+    full = CodeFingerprint("solution.py", K, WINDOW, boilerplate=shared_hashes, fp=io.StringIO(code))
+    counts = [len(where) for where in full.hash_idx.values()]
+    unique, which = np.unique(np.repeat(np.array(list(full.hash_idx), dtype=np.int64), counts), return_inverse=True)
+    positions = np.array([i for where in full.hash_idx.values() for i in where], dtype=np.int32)
+    return _Fingerprint(unique, which.astype(np.int32), positions, int(full.token_coverage), not len(full.filtered_code))
 
+
+def _similarity(a: _Fingerprint, b: _Fingerprint) -> float:
+    """copydetect's ``compare_files`` similarity of ``a`` and ``b``, the mean of both directions.
+
+    Each side: the tokens covered by the occurrences of the hashes both share, over its token coverage.
+    """
+    from copydetect.utils import get_copied_slices
+
+    common = np.intersect1d(a.unique, b.unique, assume_unique=True)
+    if not common.size:
+        return 0.0
+    total = 0.0
+    for side in (a, b):
+        shared = np.isin(side.unique, common, assume_unique=True)[side.which]
+        slices = get_copied_slices(side.positions[shared].astype(np.int64), K)
+        if not side.empty:
+            total += float(np.sum(slices[1] - slices[0])) / side.token_coverage
+    return total / 2
 
 def candidate_pairs(prints: dict, wrong: dict[str, dict[str, str]]) -> list[tuple[str, str]]:
     """Pairs that may reach either threshold, from sketches (``grader.report.minhash``), sorted.
@@ -180,17 +232,14 @@ def candidate_pairs(prints: dict, wrong: dict[str, dict[str, str]]) -> list[tupl
     Parameters
     ----------
     prints : dict
-        Student id -> copydetect ``CodeFingerprint``.
+        Student id -> ``_fingerprint``.
     wrong : dict
         Student id -> {hidden case label -> digest of their wrong output}.
     """
-    import numpy as np
-
     from grader.report.minhash import code_candidates, wrong_output_candidates
 
     ids = sorted(prints)
-    sets = [np.fromiter(prints[sid].hashes, dtype=np.int64, count=len(prints[sid].hashes)) for sid in ids]
-    pairs = {(ids[i], ids[j]) for i, j in code_candidates(sets)}
+    pairs = {(ids[i], ids[j]) for i, j in code_candidates([prints[sid].unique for sid in ids])}
     return sorted(pairs | wrong_output_candidates(wrong, WRONG_OUTPUT_THRESHOLD))
 
 
@@ -216,8 +265,7 @@ def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[s
     exhaustive : bool, optional
         Compare every pair (quadratic), as the pass did before the sketch; for tests and benchmarks.
     """
-    import numpy as np
-    from copydetect import CodeFingerprint, compare_files
+    from copydetect import CodeFingerprint
 
     # As copydetect's own detector does: every k-gram of the boilerplate (window 1), not only the winnowed ones.
     hashes = []
@@ -238,8 +286,7 @@ def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[s
     for a, b in compared:
         similarity = 0.0
         if a in prints and b in prints:
-            _, (s1, s2), _ = compare_files(prints[a], prints[b])
-            similarity = float(s1 + s2) / 2
+            similarity = _similarity(prints[a], prints[b])
         same = sorted(label for label, d in wrong.get(a, {}).items() if d and wrong.get(b, {}).get(label) == d)
         weight = sum(1.0 / (holders[(label, wrong[a][label])] - 1) for label in same)
         if similarity >= similarity_threshold or weight >= WRONG_OUTPUT_THRESHOLD:

@@ -91,3 +91,24 @@ def test_every_pair_whose_wrong_outputs_reach_the_threshold_is_a_candidate():
     assert {("s00", "s01"), ("s02", "s03"), ("s04", "s05")} <= reach <= found
     assert ("s06", "s07") in found, "an output held by three students may still add up to the threshold"
     assert len(found) < 40 * 39 // 2 / 4, "outputs held by many students are not expanded into pairs"
+
+
+def test_the_compact_fingerprint_gives_copydetects_similarity(source_notebooks, tmp_path):
+    import io
+    import itertools
+
+    from copydetect import CodeFingerprint, compare_files
+
+    from grader.report.collusion import K, WINDOW, _fingerprint, _similarity
+
+    codes, shared, _ = class_of("03_arap", source_notebooks, tmp_path)
+    codes = dict(sorted(codes.items())[:24])
+    shared_hashes = np.unique(np.array([h for text in shared for h in CodeFingerprint("b.py", K, 1, fp=io.StringIO(text)).hashes], dtype=np.int64))
+    full = {sid: CodeFingerprint("s.py", K, WINDOW, boilerplate=shared_hashes, fp=io.StringIO(code)) for sid, code in codes.items()}
+    compact = {sid: _fingerprint(code, shared_hashes) for sid, code in codes.items()}
+    checked = 0
+    for a, b in itertools.combinations(sorted(codes), 2):
+        _, (s1, s2), _ = compare_files(full[a], full[b])
+        assert _similarity(compact[a], compact[b]) == pytest.approx(float(s1 + s2) / 2, abs=1e-12)
+        checked += float(s1 + s2) > 0
+    assert checked > 50
