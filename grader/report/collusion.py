@@ -12,6 +12,11 @@ Two kinds of evidence, side by side:
   many students share is a common bug, so each shared output counts
   ``1 / (students with it - 1)``.
 
+Only candidate pairs are compared exactly: those that a MinHash/LSH sketch of
+the same fingerprints, or an inverted index of the wrong outputs, says may reach
+a threshold (``grader.report.minhash``), so the pass grows near-linearly with the
+class instead of with its number of pairs (``python -m benchmarks collusion``).
+
 The pass reads every submission, so it is capped like the rest of the grader:
 each student's own solution code per notebook is cut at ``MAX_CODE_BYTES`` (the
 cut is evidence the report shows), and ``limited_collusion`` runs it in a child
