@@ -62,12 +62,12 @@ def test_minhash_agreement_estimates_the_jaccard_index():
         assert abs((sig[0] == sig[1]).mean() - jaccard) < 0.1
 
 
-def test_sets_with_a_jaccard_index_of_a_quarter_are_candidates_and_disjoint_sets_are_not():
+def test_sets_with_the_jaccard_index_of_a_pair_at_the_threshold_are_candidates_and_disjoint_sets_are_not():
     rng = np.random.default_rng(2)
     sets = []
-    for _ in range(60):  # 30 pairs at J = 0.25 (120 shared of 480), 30 unrelated pairs
-        shared = rng.integers(-2**62, 2**62, 120)
-        sets += [np.concatenate([shared, rng.integers(-2**62, 2**62, 180)]), np.concatenate([shared, rng.integers(-2**62, 2**62, 180)])]
+    for _ in range(30):  # 30 pairs at J = 0.37 (162 shared of 438), the lowest of a pair at similarity 0.7 in the corpus
+        shared = rng.integers(-2**62, 2**62, 162)
+        sets += [np.concatenate([shared, rng.integers(-2**62, 2**62, 138)]), np.concatenate([shared, rng.integers(-2**62, 2**62, 138)])]
     found = code_candidates(sets[:60] + [rng.integers(-2**62, 2**62, 300) for _ in range(60)])
     assert {(2 * k, 2 * k + 1) for k in range(30)} <= found
     assert not {p for p in found if p[1] >= 60}, "disjoint sets are never candidates"
