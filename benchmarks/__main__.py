@@ -18,7 +18,7 @@ import sys
 import time
 from pathlib import Path
 
-ORDER = ("arap", "arap_demo", "bbw", "fast", "lbs", "notebooks", "grading", "scale")
+ORDER = ("arap", "arap_demo", "bbw", "fast", "lbs", "notebooks", "grading", "scale", "collusion")
 RESULTS = Path(__file__).with_name("RESULTS.md")
 MARK = "<!-- previous run -->"
 

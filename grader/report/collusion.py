@@ -12,6 +12,11 @@ Two kinds of evidence, side by side:
   many students share is a common bug, so each shared output counts
   ``1 / (students with it - 1)``.
 
+Only candidate pairs are compared exactly: those that a MinHash/LSH sketch of
+the same fingerprints, or an inverted index of the wrong outputs, says may reach
+a threshold (``grader.report.minhash``), so the pass grows near-linearly with the
+class instead of with its number of pairs (``python -m benchmarks collusion``).
+
 The pass reads every submission, so it is capped like the rest of the grader:
 each student's own solution code per notebook is cut at ``MAX_CODE_BYTES`` (the
 cut is evidence the report shows), and ``limited_collusion`` runs it in a child
@@ -34,6 +39,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import nbformat
+import numpy as np
 
 from grader.build.authored import BEGIN_SOLUTION, END_SOLUTION
 from grader.pipeline.sanitize import SubmissionError, read_submission
@@ -44,6 +50,9 @@ K, WINDOW = 15, 4
 SIMILARITY_THRESHOLD = 0.7
 #: ... or from this much rarity-weighted identical wrong output.
 WRONG_OUTPUT_THRESHOLD = 2.0
+#: The sketch is designed to find every pair from this code similarity on (a Jaccard index of about 0.4
+#: and over, ``grader.report.minhash``); under it ``rank_pairs`` compares every pair.
+SKETCH_FLOOR = 0.7
 #: Characters of each side's code shown in the report.
 MAX_SHOWN = 6000
 #: Bytes (UTF-8) of one student's own solution code per notebook that the pass compares; the rest is cut
@@ -165,15 +174,88 @@ def student_code(path: Path, shared: list[str]) -> str:
     return "\n\n".join(text for _, text in sorted(cells.items()) if text.strip() and text.strip() not in plain)
 
 
-def _fingerprint(code: str, shared_hashes):
+@dataclass
+class _Fingerprint:
+    """A copydetect ``CodeFingerprint`` kept as two arrays, and ``_similarity`` of two of them.
+
+    A whole ``CodeFingerprint`` keeps the raw and filtered code, a per-token offset table and a
+    dict of lists per hash: about 245 KiB per student on 03_arap, so a class of 10,000 did not fit
+    the pass's memory cap. These arrays take 8 bytes per occurrence and 8 per distinct hash.
+
+    Attributes
+    ----------
+    unique : (u,) numpy.ndarray of int64
+        The winnowed k-gram hashes that are not boilerplate, sorted, without repeats.
+    which : (h,) numpy.ndarray of int32
+        One per occurrence of a hash: its index in ``unique``.
+    positions : (h,) numpy.ndarray of int32
+        Where each occurrence is in the filtered code.
+    token_coverage : int
+        Tokens of the filtered code that some winnowed hash covers (copydetect's denominator).
+    empty : bool
+        The filtered code is empty.
+    """
+
+    unique: np.ndarray
+    which: np.ndarray
+    positions: np.ndarray
+    token_coverage: int
+    empty: bool
+
+
+def _fingerprint(code: str, shared_hashes) -> _Fingerprint:
     from copydetect import CodeFingerprint
 
-    return CodeFingerprint("solution.py", K, WINDOW, boilerplate=shared_hashes, fp=io.StringIO(code))
+    full = CodeFingerprint("solution.py", K, WINDOW, boilerplate=shared_hashes, fp=io.StringIO(code))
+    counts = [len(where) for where in full.hash_idx.values()]
+    unique, which = np.unique(np.repeat(np.array(list(full.hash_idx), dtype=np.int64), counts), return_inverse=True)
+    positions = np.array([i for where in full.hash_idx.values() for i in where], dtype=np.int32)
+    return _Fingerprint(unique, which.astype(np.int32), positions, int(full.token_coverage), not len(full.filtered_code))
+
+
+def _similarity(a: _Fingerprint, b: _Fingerprint) -> float:
+    """copydetect's ``compare_files`` similarity of ``a`` and ``b``, the mean of both directions.
+
+    Each side: the tokens covered by the occurrences of the hashes both share, over its token coverage.
+    """
+    from copydetect.utils import get_copied_slices
+
+    common = np.intersect1d(a.unique, b.unique, assume_unique=True)
+    if not common.size:
+        return 0.0
+    total = 0.0
+    for side in (a, b):
+        shared = np.isin(side.unique, common, assume_unique=True)[side.which]
+        slices = get_copied_slices(side.positions[shared].astype(np.int64), K)
+        if not side.empty:
+            total += float(np.sum(slices[1] - slices[0])) / side.token_coverage
+    return total / 2
+
+def candidate_pairs(prints: dict, wrong: dict[str, dict[str, str]]) -> list[tuple[str, str]]:
+    """Pairs that may reach either threshold, from sketches (``grader.report.minhash``), sorted.
+
+    Parameters
+    ----------
+    prints : dict
+        Student id -> ``_fingerprint``.
+    wrong : dict
+        Student id -> {hidden case label -> digest of their wrong output}.
+    """
+    from grader.report.minhash import code_candidates, wrong_output_candidates
+
+    ids = sorted(prints)
+    pairs = {(ids[i], ids[j]) for i, j in code_candidates([prints[sid].unique for sid in ids])}
+    return sorted(pairs | wrong_output_candidates(wrong, WRONG_OUTPUT_THRESHOLD))
 
 
 def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[str, str]] | None = None,
-               notebook: str = "", similarity_threshold: float = SIMILARITY_THRESHOLD) -> list[dict]:
+               notebook: str = "", similarity_threshold: float = SIMILARITY_THRESHOLD,
+               exhaustive: bool = False) -> list[dict]:
     """Pairs of students above either threshold, strongest evidence first.
+
+    Only candidate pairs (``candidate_pairs``: a sketch, near-linear in the class) are compared
+    exactly, unless ``exhaustive`` or a ``similarity_threshold`` under ``SKETCH_FLOOR``, which
+    compare every pair.
 
     Parameters
     ----------
@@ -185,9 +267,10 @@ def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[s
         Student id -> {hidden case label -> digest of their wrong output}.
     similarity_threshold : float, optional
         Code similarity from which a pair is reported (0 reports every pair).
+    exhaustive : bool, optional
+        Compare every pair (quadratic), as the pass did before the sketch; for tests and benchmarks.
     """
-    import numpy as np
-    from copydetect import CodeFingerprint, compare_files
+    from copydetect import CodeFingerprint
 
     # As copydetect's own detector does: every k-gram of the boilerplate (window 1), not only the winnowed ones.
     hashes = []
@@ -200,12 +283,15 @@ def rank_pairs(codes: dict[str, str], shared: list[str], wrong: dict[str, dict[s
     for cases in wrong.values():
         for label, digest in cases.items():
             holders[(label, digest)] += 1
+    if exhaustive or similarity_threshold < SKETCH_FLOOR:
+        compared = itertools.combinations(sorted(set(prints) | set(wrong)), 2)
+    else:
+        compared = candidate_pairs(prints, wrong)
     pairs = []
-    for a, b in itertools.combinations(sorted(set(prints) | set(wrong)), 2):
+    for a, b in compared:
         similarity = 0.0
         if a in prints and b in prints:
-            _, (s1, s2), _ = compare_files(prints[a], prints[b])
-            similarity = float(s1 + s2) / 2
+            similarity = _similarity(prints[a], prints[b])
         same = sorted(label for label, d in wrong.get(a, {}).items() if d and wrong.get(b, {}).get(label) == d)
         weight = sum(1.0 / (holders[(label, wrong[a][label])] - 1) for label in same)
         if similarity >= similarity_threshold or weight >= WRONG_OUTPUT_THRESHOLD:
@@ -293,7 +379,8 @@ def limited_collusion(results: list[dict], submitted: Path, sources: list[Path],
     job = {"results": slim, "submitted": str(submitted), "sources": [str(p) for p in sources], "assignment": assignment,
            "memory_bytes": caps.memory_bytes, "cpu_seconds": cpu, "max_code_bytes": caps.max_code_bytes}
     # One BLAS thread: the pass does no linear algebra, and each thread would reserve address space.
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    # A fixed PYTHONHASHSEED: copydetect hashes k-grams with Python's hash(), so the same class gets the same report.
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1", PYTHONHASHSEED="0")
     child = subprocess.Popen([sys.executable, "-m", "grader.report.collusion"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, env=env)
     try:
