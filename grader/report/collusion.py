@@ -179,7 +179,7 @@ class _Fingerprint:
     """A copydetect ``CodeFingerprint`` kept as two arrays, and ``_similarity`` of two of them.
 
     A whole ``CodeFingerprint`` keeps the raw and filtered code, a per-token offset table and a
-    dict of lists per hash: about 245 KiB per student on 03_arap, so a class of 10,000 did not fit
+    dict of lists per hash: about 245 KiB per student on a notebook of ten functions, so a class of 10,000 did not fit
     the pass's memory cap. These arrays take 8 bytes per occurrence and 8 per distinct hash.
 
     Attributes
