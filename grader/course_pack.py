@@ -57,6 +57,7 @@ import importlib
 import importlib.abc
 import importlib.machinery
 import importlib.util
+import os
 import re
 import sys
 import tomllib
@@ -64,6 +65,8 @@ import types
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
+
+from grader.paths import ROOT_VARIABLE, course_paths
 
 PACKAGE = "deformlab_packs"
 MANIFEST = "assignment.toml"
@@ -348,8 +351,13 @@ def _declare_policy(course: Assignment) -> None:
 
 
 def _course_folder() -> Path:
-    from grader.paths import course_paths
+    """The course folder of this process, resolved once per (DEFORMLAB_ROOT, working folder):
+    grading asks for packs per case and per row, and resolving may read nbgrader_config.py."""
+    return _resolved_course(os.environ.get(ROOT_VARIABLE), os.getcwd())
 
+
+@functools.lru_cache(maxsize=8)
+def _resolved_course(root: str | None, cwd: str) -> Path:
     return course_paths().course.resolve()
 
 
@@ -404,6 +412,7 @@ def is_bonus(assignment: str | None, notebook: str) -> bool:
 
 def forget() -> None:
     """Drop what discovery cached (after a test or a command changes the course folder)."""
+    _resolved_course.cache_clear()
     _discover.cache_clear()
 
 

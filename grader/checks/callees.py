@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import contextvars
 import functools
-import importlib
 import inspect
 import math
 import sys
@@ -114,8 +113,7 @@ class _Substitutable:
 def _install(course: CourseCallees) -> None:
     """Wrap, once per process, every module global of the reference package that is a graded function (or an alias)."""
     assignment = course.assignment
-    for module in assignment.reference_modules():
-        importlib.import_module(module.__name__)
+    assignment.reference_modules()  # imported, so that every module to wrap is in sys.modules
     root = assignment.reference
     for modname, module in list(sys.modules.items()):
         if module is None or not (modname == root or modname.startswith(root + ".")):

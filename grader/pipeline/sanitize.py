@@ -176,15 +176,14 @@ def _calls_contract_at_top_level(source: str, names: frozenset[str]) -> bool:
 _SCOPES = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)
 
 
-def grading_plan(nb: nbformat.NotebookNode, names: frozenset[str] | None = None) -> list[int]:
+def grading_plan(nb: nbformat.NotebookNode, names: frozenset[str]) -> list[int]:
     """Code cells to execute when grading.
 
     Solution cells always run. Tests cells never run (the trusted checks replace
-    them). Other cells run unless they use a graded function (``names``, default:
-    :func:`graded_functions` of ``nb``) at top level: those are pictures and
-    experiments, whose results nobody grades.
+    them). Other cells run unless they use a graded function (``names``: the source
+    notebook's :func:`graded_functions`, never the submission's own metadata) at top
+    level: those are pictures and experiments, whose results nobody grades.
     """
-    names = graded_functions(nb) if names is None else names
     plan = []
     for i, cell in enumerate(nb.cells):
         if cell.cell_type != "code":

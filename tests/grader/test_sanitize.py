@@ -5,7 +5,7 @@ import copy
 import nbformat
 import pytest
 
-from grader.pipeline.sanitize import SubmissionError, grading_plan, read_submission, sanitize
+from grader.pipeline.sanitize import SubmissionError, graded_functions, grading_plan, read_submission, sanitize
 
 
 @pytest.fixture(scope="module")
@@ -62,7 +62,7 @@ def test_tests_cells_and_demonstrations_are_not_run_when_grading(source):
     nb = copy.deepcopy(source)
     nb.cells.append(nbformat.v4.new_code_cell("R = optimal_rotation(S)"))
     nb.cells.append(nbformat.v4.new_code_cell("def helper(S):\n    return optimal_rotation(S)"))
-    plan = grading_plan(nb)
+    plan = grading_plan(nb, graded_functions(nb))
     kinds = {i: (nb.cells[i].metadata.get("nbgrader") or {}) for i in plan}
     assert not any(m.get("grade") for m in kinds.values())
     assert len(nb.cells) - 2 not in plan, "a top-level call of a contract function is a demonstration"
