@@ -41,7 +41,8 @@ from traitlets import DottedObjectName
 from grader.sandbox import bwrap, fork_server
 from grader.sandbox.bwrap import SandboxSpec, sandbox_env, sandbox_user_namespace, wrap_command
 from grader.sandbox.limits import (
-    Process, innermost_pid, is_running, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process, process_tree,
+    Process, hold_pid_namespace, innermost_pid, is_running, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process,
+    process_tree,
 )
 from grader.sandbox.seccomp import filter_program
 from grader.sandbox.process_limit import ProcessLimit, namespace_cap_prefix, pids_parent
@@ -166,7 +167,8 @@ class SandboxedKernelManager(KernelManager):
 
     client_class = DottedObjectName("grader.sandbox.kernel.SandboxedKernelClient", config=True)
 
-    pid_namespace: str | None = None  # the sandbox's, e.g. "pid:[4026532771]", once seen
+    pid_namespace: str | None = None  # the sandbox's, e.g. "pid:[4026532771]", once seen; held by _namespace_fd
+    _namespace_fd: int | None = None  # keeps pid_namespace's name from going to another sandbox
     forked: bool = False  # this start forks the kernel from the template (grader.sandbox.fork_server)
 
     def __init__(self, spec: SandboxSpec, runtime_root: str | Path | None = None, **kw):
@@ -267,7 +269,7 @@ class SandboxedKernelManager(KernelManager):
         # A fresh sockets folder per start: a restart never reuses what the last kernel could write.
         shutil.rmtree(self.sockets_dir, ignore_errors=True)
         self.sockets_dir.mkdir(mode=0o700)
-        self.pid_namespace = None
+        self._release_pid_namespace()
         self._remove_process_limit()
         self.namespace_cap = None
         cap = self.sandbox_spec.max_processes
@@ -337,7 +339,7 @@ class SandboxedKernelManager(KernelManager):
     async def _launch_fresh_instead(self, exc: Exception, kw: dict) -> None:
         """After a failed fork: kill the half-built sandbox, say why, and start the kernel fresh."""
         kill_and_reap(self._sandbox_processes())
-        self.pid_namespace = None  # that sandbox's: the fresh kernel's is another
+        self._release_pid_namespace()  # that sandbox's: the fresh kernel's is another
         fork_server.failed(f"it could not be forked from the template ({exc})")
         self.forked = False
         await self._launch_fresh(kw)
@@ -379,7 +381,7 @@ class SandboxedKernelManager(KernelManager):
         found = self._first_in_sandbox()
         if found is None:
             raise RuntimeError("the sandbox's waiter is gone")
-        waiter, self.pid_namespace = found
+        waiter = found
         program = filter_program() if bwrap.system_calls_filtered() else None
         request = {
             "target": waiter.pid,
@@ -427,19 +429,34 @@ class SandboxedKernelManager(KernelManager):
 
     def _note_pid_namespace(self) -> None:
         """Remember the pid namespace the sandbox's processes are in (bwrap gives it one of its own)."""
-        if self.pid_namespace is None and (found := self._first_in_sandbox()) is not None:
-            self.pid_namespace = found[1]
+        if self.pid_namespace is None:
+            self._first_in_sandbox()
 
-    def _first_in_sandbox(self) -> tuple[Process, str] | None:
-        """The launcher's first descendant in a pid namespace other than the grader's, and that namespace."""
+    def _first_in_sandbox(self) -> Process | None:
+        """The launcher's first descendant in a pid namespace other than the grader's; its namespace is held.
+
+        The namespace is held open (:func:`~grader.sandbox.limits.hold_pid_namespace`) until
+        the kernel is shut down: killing by a name the sandbox no longer holds would kill
+        whichever sandbox was given that name next (another unit's, another grader's).
+        """
         if self.launcher is None:
             return None
         own = pid_namespace(os.getpid())
         for proc in process_tree(self.launcher):
             ns = pid_namespace(proc.pid)
-            if ns is not None and ns != own:
-                return proc, ns
+            if ns is None or ns == own:
+                continue
+            if self.pid_namespace is None and (held := hold_pid_namespace(proc)) is not None:
+                self.pid_namespace, self._namespace_fd = held
+            if self.pid_namespace == ns:
+                return proc
         return None
+
+    def _release_pid_namespace(self) -> None:
+        """Forget the sandbox's pid namespace and let its name go (after its processes were killed)."""
+        fd, self._namespace_fd, self.pid_namespace = self._namespace_fd, None, None
+        if fd is not None:
+            os.close(fd)
 
     def _sandbox_processes(self) -> list[Process]:
         # The launcher's tree, plus whatever is in the sandbox's pid namespace or
@@ -456,6 +473,7 @@ class SandboxedKernelManager(KernelManager):
         # The whole tree at once, before the launcher dies and orphans it.
         kill_and_reap(self._sandbox_processes())
         await super()._async_kill_kernel(restart=restart)
+        self._release_pid_namespace()
 
     _kill_kernel = run_sync(_async_kill_kernel)
 
@@ -470,6 +488,7 @@ class SandboxedKernelManager(KernelManager):
                 await super()._async_shutdown_kernel(now=now, restart=restart)
         finally:
             kill_and_reap(tree)
+            self._release_pid_namespace()
             self._remove_process_limit()
 
     shutdown_kernel = run_sync(_async_shutdown_kernel)

@@ -17,7 +17,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import NamedTuple
 
-__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "pid_namespace", "innermost_pid", "namespace_members", "status_bytes", "peak_rss_bytes", "kill_and_reap", "is_alive", "is_running"]
+__all__ = ["Process", "prlimit_prefix", "process", "process_tree", "pid_namespace", "hold_pid_namespace", "innermost_pid", "namespace_members", "status_bytes", "peak_rss_bytes", "kill_and_reap", "is_alive", "is_running"]
 
 
 class Process(NamedTuple):
@@ -142,13 +142,43 @@ def pid_namespace(pid: int) -> str | None:
         return None
 
 
+def hold_pid_namespace(proc: Process) -> tuple[str, int] | None:
+    """Open a descriptor on the pid namespace of ``proc``, which keeps its name from going to another.
+
+    A namespace's name (its inode number) is free for the next namespace created once
+    the last process in it has exited, and Linux hands out the lowest free one: a
+    sandbox's name, remembered past its end, soon names another grader's sandbox. An
+    open descriptor keeps the namespace, and so its name, alive.
+
+    Parameters
+    ----------
+    proc : Process
+        A host process (pid and start time).
+
+    Returns
+    -------
+    (str, int) or None
+        The name, as :func:`pid_namespace` gives it, and the descriptor (the caller
+        closes it once it no longer kills by that name); ``None`` if ``proc`` has exited.
+    """
+    try:
+        fd = os.open(f"/proc/{proc.pid}/ns/pid", os.O_RDONLY | os.O_CLOEXEC)
+    except OSError:
+        return None
+    if not is_running(proc):  # the pid went to another process before the descriptor was open
+        os.close(fd)
+        return None
+    return f"pid:[{os.fstat(fd).st_ino}]", fd
+
+
 def namespace_members(namespace: str) -> list[int]:
     """Host pids of the live processes in a pid namespace.
 
     Parameters
     ----------
     namespace : str
-        As :func:`pid_namespace` names it.
+        As :func:`pid_namespace` names it; held open (:func:`hold_pid_namespace`)
+        unless another sandbox's processes may be among the members.
 
     Returns
     -------

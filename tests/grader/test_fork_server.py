@@ -129,7 +129,7 @@ def test_a_deferred_launch_builds_the_sandbox_and_forks_its_kernel_only_when_com
         while km._first_in_sandbox() is None and time.monotonic() < deadline:
             time.sleep(0.01)
         # the waiter alone, waiting: no kernel yet
-        assert [p.pid for p in km._sandbox_processes()] == [launcher, km._first_in_sandbox()[0].pid]
+        assert [p.pid for p in km._sandbox_processes()] == [launcher, km._first_in_sandbox().pid]
         km.finish_start()
         assert km.forked and _run(km, "print(6 * 7)") == "42\n"
         assert len(km._sandbox_processes()) == 3  # launcher (bwrap), its waiter, the kernel

@@ -15,6 +15,7 @@ import uuid
 from pathlib import Path
 
 import nbformat
+import psutil
 import pytest
 from nbclient import NotebookClient
 from nbclient.exceptions import CellTimeoutError
@@ -22,7 +23,7 @@ from nbclient.exceptions import CellTimeoutError
 from grader.sandbox import bwrap
 from grader.sandbox.bwrap import SandboxSpec, bwrap_available, wrap_command
 from grader.sandbox.kernel import SandboxedKernelManager, peak_memory_bytes
-from grader.sandbox.limits import is_alive
+from grader.sandbox.limits import is_alive, namespace_members, pid_namespace
 from grader.sandbox.seccomp import denied_numbers
 from grader.sandbox.process_limit import pids_parent
 
@@ -387,6 +388,38 @@ def test_shutdown_after_the_kernel_died_spares_the_process_that_was_given_its_la
     finally:
         bystander.kill()
         bystander.wait()
+
+
+def test_shutdown_after_the_sandbox_died_spares_the_sandbox_given_its_namespace_name(tmp_path):
+    # Linux names a new pid namespace by the lowest free number: a sandbox's name, once its last
+    # process is gone, goes to the next sandbox created (another unit's, another grader's).
+    # Killing "every process in pid:[N]" after the fact killed that sandbox's kernel.
+    if subprocess.run(["unshare", "--pid", "--fork", "true"], capture_output=True).returncode != 0:
+        pytest.skip("unshare cannot create pid namespaces here")
+    km, kc = _start(_course(tmp_path))
+    kc.stop_channels()
+    name = km.pid_namespace
+    assert name is not None
+    for pid in namespace_members(name):  # the whole sandbox dies at once, as in a crash
+        os.kill(pid, 9)
+    deadline = time.monotonic() + 30
+    while namespace_members(name) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not namespace_members(name)
+    others = [subprocess.Popen(["unshare", "--pid", "--fork", "sleep", "600"]) for _ in range(8)]
+    try:
+        names = set()
+        for other in others:
+            while not (children := psutil.Process(other.pid).children()):
+                time.sleep(0.01)
+            names.add(pid_namespace(children[0].pid))
+        assert name not in names, "a namespace the kernel manager still kills by was given to another"
+        km.shutdown_kernel(now=True)
+        assert all(other.poll() is None for other in others), "shutdown killed another sandbox"
+    finally:
+        for other in others:
+            other.kill()
+            other.wait()
 
 
 def test_hidden_packages_and_paths_inside_mounted_trees_are_masked(tmp_path, monkeypatch):
