@@ -54,7 +54,7 @@ $(HUB_PROXY): tests/hub/package.json tests/hub/package-lock.json
 	fi
 
 demo: setup
-	$(BIN)/deformlab demo
+	$(BIN)/python -m tests.demo
 
 test: setup
 	$(BIN)/python -m pytest -n 2 --dist loadscope --durations=20

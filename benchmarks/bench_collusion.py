@@ -36,7 +36,7 @@ import nbformat
 
 from grader.build.source_notebook import build_sources
 from grader.contract import ASSIGNMENT
-from grader.corpus import load_corpus, load_entry, student_notebook
+from tests.corpus import load_corpus, load_entry, student_notebook
 from grader.report.collusion import boilerplate, limited_collusion, rank_pairs, student_code
 
 ROOT = Path(__file__).resolve().parents[1]

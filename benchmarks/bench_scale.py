@@ -38,7 +38,7 @@ from pathlib import Path
 import nbformat
 
 from grader.build.source_notebook import build_sources
-from grader.corpus import student_notebook
+from tests.corpus import student_notebook
 from grader.paths import CoursePaths, course_paths
 from grader.pipeline import run as run_module
 from grader.pipeline import unit as unit_module

@@ -14,8 +14,8 @@ MIN_MEMORY_GIB = 0.5
 DESCRIPTION = """\
 DeformLab's course kit: build and release the notebooks, grade submissions in a sandbox.
 
-A first run:
-  deformlab demo                          release, grade a small class, print the scores
+A first run (from a checkout, `make demo` grades a small synthetic class first):
+  deformlab release                       build, release and check the student notebooks
   deformlab grade SUBMITTED --out OUT     grade nbgrader's SUBMITTED/<student>/<assignment>/*.ipynb
 
 'deformlab COMMAND --help' explains each command."""
@@ -305,12 +305,6 @@ def _cmd_check(args) -> int:
     return check_notebook(Path(args.notebook), timeout=args.timeout)
 
 
-def _cmd_demo(args) -> int:
-    from grader.demo import run_demo
-
-    return run_demo(Path(args.out), workers=args.workers)
-
-
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="deformlab", description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
@@ -422,11 +416,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("notebook", help="the .ipynb file to check")
     p.add_argument("--timeout", type=_positive_float, default=120.0, help="seconds per cell (default: 120)")
     p.set_defaults(run=_cmd_check)
-
-    p = sub.add_parser("demo", help="release, grade a small synthetic class, print the table")
-    p.add_argument("--out", default="demo-out", help="output folder (default: demo-out)")
-    p.add_argument("--workers", type=_positive_int, default=None, help="parallel notebooks (default: number of cores)")
-    p.set_defaults(run=_cmd_demo)
 
     return parser
 

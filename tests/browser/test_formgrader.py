@@ -24,7 +24,7 @@ import nbformat
 import pytest
 from tests.course_copy import copy_course_config
 
-from grader.corpus import build_submission, load_entry, student_id, student_notebook
+from tests.corpus import build_submission, load_entry, student_id, student_notebook
 from grader.paths import CoursePaths
 
 from .conftest import CHROMIUM, NO_CHROMIUM, jupyter_env, jupyter_server

@@ -23,7 +23,7 @@ from pathlib import Path
 
 from grader.build.authored import read_authored
 from grader.build.source_notebook import with_policy_check
-from grader.corpus import load_entry
+from tests.corpus import load_entry
 from grader.course_pack import pack
 from grader.pipeline.sanitize import _calls_contract_at_top_level
 

@@ -249,7 +249,7 @@ def course_calls() -> set[tuple[str, str, str]]:
 
 def test_every_call_between_course_functions_has_a_corpus_bug_charged_to_the_callee_alone():
     """For each (callee, caller) pair of the teaching solutions, a buggy entry breaks the callee and the caller keeps its points."""
-    from grader.corpus import load_corpus
+    from tests.corpus import load_corpus
 
     entries = [e for e in load_corpus(ROOT / "tests" / "corpus") if e.kind == "buggy"]
     missing = [

@@ -11,7 +11,7 @@ import pytest
 import scipy.sparse as sp
 
 from grader.checks import check_namespace
-from grader.corpus import load_entry
+from tests.corpus import load_entry
 
 # The package re-exports tet_volumes(), which hides the module attribute ``reference.tetrahedra``.
 ref = importlib.import_module("reference.tetrahedra")

@@ -2,7 +2,7 @@
 
 One ``grade_class`` run over every corpus submission (one notebook per student)
 is shared by the module; each entry then asserts its own expectation
-(``grader/corpus.py`` describes the files).
+(``tests/corpus/__init__.py`` describes the files).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ import pytest
 from grader.course_pack import pack
 _COURSE = pack("deformation")
 STAGES = _COURSE.stage_names
-from grader.corpus import CorpusEntry, build_submission, load_corpus, student_id, student_notebook
+from tests.corpus import CorpusEntry, build_submission, load_corpus, student_id, student_notebook
 from grader.pipeline.run import GradeOptions, grade_class
 from grader.sandbox.process_limit import pids_parent
 from grader.sandbox.workspace import PREFIX as WORKSPACE_PREFIX

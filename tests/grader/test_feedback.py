@@ -7,7 +7,7 @@ import struct
 import nbformat
 import pytest
 
-from grader.corpus import student_notebook
+from tests.corpus import student_notebook
 from grader.pipeline.unit import UnitSpec, grade_unit, load_submission
 
 NOTEBOOK = "04_bbw"
@@ -28,7 +28,7 @@ def max_score(source_notebooks, notebook=NOTEBOOK):
 @pytest.fixture(scope="module")
 def buggy_page(source_notebooks, tmp_path_factory, repo_root):
     """A bbw that forgets to normalize: pictures are drawn for the functions that lost points only."""
-    from grader.corpus import load_entry
+    from tests.corpus import load_entry
 
     entry = load_entry(repo_root / "tests" / "corpus" / "buggy" / "bbw_not_normalized.py")
     path = tmp_path_factory.mktemp("bbw") / f"{NOTEBOOK}.ipynb"

@@ -7,7 +7,7 @@ import nbformat
 import pytest
 
 from grader.cli import main
-from grader.corpus import student_notebook
+from tests.corpus import student_notebook
 
 NOTEBOOK = "01_shape_matching"
 

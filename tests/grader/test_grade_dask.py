@@ -25,7 +25,7 @@ from pathlib import Path
 
 import pytest
 
-from grader.corpus import build_submission, load_corpus, student_id
+from tests.corpus import build_submission, load_corpus, student_id
 from grader.paths import CoursePaths
 from grader.pipeline.distributed import parse_scheduler
 from grader.pipeline.run import GradeOptions, grade_class

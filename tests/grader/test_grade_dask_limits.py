@@ -14,7 +14,7 @@ import resource
 
 import pytest
 
-from grader.corpus import build_submission, load_entry
+from tests.corpus import build_submission, load_entry
 from grader.pipeline.distributed import GradingProcessDied, connect, grade_unit_on_worker, on_grading_process
 from grader.pipeline.guard import DEFAULT_GRADER_MEMORY_BYTES, DEFAULT_GRADER_SECONDS
 from grader.pipeline.unit import UnitSpec

@@ -19,7 +19,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from grader.corpus import student_notebook
+from tests.corpus import student_notebook
 from grader.paths import CoursePaths
 from grader.pipeline.run import GradeOptions, grade_class
 

@@ -6,7 +6,7 @@ import zipfile
 
 import nbformat
 
-from grader.corpus import student_notebook
+from tests.corpus import student_notebook
 from grader.gradescope import build_autograder_zip, run
 
 

@@ -20,7 +20,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from grader.corpus import load_entry, student_notebook
+from tests.corpus import load_entry, student_notebook
 from grader.gradescope import build_autograder_zip
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(900)]

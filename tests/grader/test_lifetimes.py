@@ -25,7 +25,7 @@ from pathlib import Path
 import psutil
 import pytest
 
-from grader.corpus import build_submission, load_corpus, student_id
+from tests.corpus import build_submission, load_corpus, student_id
 from grader.sandbox.bwrap import bwrap_available
 from grader.sandbox.workspace import PREFIX, remove_stale_workspaces
 

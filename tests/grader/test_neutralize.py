@@ -25,7 +25,7 @@ from nbgrader.server_extensions.formgrader import handlers
 from PIL import Image
 from traitlets.config import Config
 
-from grader.corpus import load_entry, student_notebook
+from tests.corpus import load_entry, student_notebook
 from grader.pipeline.neutralize import (
     MAX_CELL_OUTPUT_BYTES,
     MAX_NOTEBOOK_OUTPUT_BYTES,

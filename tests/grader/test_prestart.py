@@ -7,7 +7,7 @@ import os
 import nbformat
 import pytest
 
-from grader.corpus import student_notebook, teaching_cell
+from tests.corpus import student_notebook, teaching_cell
 from grader.pipeline.unit import UnitSpec, grade_unit
 from grader.sandbox import spares
 from grader.sandbox.bwrap import bwrap_available

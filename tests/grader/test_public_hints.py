@@ -2,7 +2,7 @@
 
 import pytest
 
-from grader.corpus import load_entry
+from tests.corpus import load_entry
 from tests.grader.public_hints_audit import BUGGY, HINTS, hinted, public_failures
 
 TRANSPOSED_ROTATION = '''

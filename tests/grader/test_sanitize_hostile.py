@@ -7,7 +7,7 @@ import json
 import nbformat
 import pytest
 
-from grader.corpus import student_notebook
+from tests.corpus import student_notebook
 from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
 
 NOTEBOOK = "01_shape_matching"

@@ -1,6 +1,6 @@
 """The demo's score table keeps bonus points outside the regular total."""
 
-from grader.demo import score_table
+from tests.demo import score_table
 
 
 def unit(sid, notebook, score, max_score):

@@ -14,7 +14,7 @@ import pytest
 from grader import course_pack
 from grader.build.release import release
 from grader.cli import main
-from grader.corpus import student_notebook
+from tests.corpus import student_notebook
 from grader.paths import CoursePaths
 from grader.pipeline.run import GradeOptions, grade_class
 

@@ -14,7 +14,7 @@ import pytest
 from grader import course_pack
 from grader.build.release import release
 from grader.cli import main
-from grader.corpus import build_submission, load_corpus, student_id
+from tests.corpus import build_submission, load_corpus, student_id
 from grader.gradescope import build_autograder_zip, run
 from grader.paths import CoursePaths
 from grader.pipeline.run import GradeOptions, grade_class

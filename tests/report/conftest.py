@@ -19,7 +19,7 @@ import pytest
 from tests.course_copy import copy_course_config
 
 ASSIGNMENT = "deformation"
-from grader.corpus import build_submission, load_entry, student_notebook
+from tests.corpus import build_submission, load_entry, student_notebook
 from grader.paths import CoursePaths
 
 ROOT = Path(__file__).resolve().parents[2]

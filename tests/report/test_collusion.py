@@ -3,7 +3,7 @@
 import nbformat
 
 ASSIGNMENT = "deformation"
-from grader.corpus import build_submission, load_corpus
+from tests.corpus import build_submission, load_corpus
 from grader.report.collusion import SIMILARITY_THRESHOLD, boilerplate, class_collusion, rank_pairs, student_code
 from grader.report.class_report import write_class_report
 

@@ -17,7 +17,7 @@ from grader.checks import check_namespace
 from grader.course_pack import pack
 _COURSE = pack("deformation")
 stage_functions = _COURSE.stage_functions
-from grader.corpus import build_submission, load_entry
+from tests.corpus import build_submission, load_entry
 from grader.report.collusion import SIMILARITY_THRESHOLD, boilerplate, rank_pairs, student_code
 
 from .conftest import rename_variables

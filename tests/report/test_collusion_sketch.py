@@ -7,7 +7,7 @@ import nbformat
 import numpy as np
 import pytest
 
-from grader.corpus import build_submission, load_corpus, load_entry
+from tests.corpus import build_submission, load_corpus, load_entry
 from grader.report.collusion import WRONG_OUTPUT_THRESHOLD, boilerplate, rank_pairs, student_code
 from grader.report.minhash import code_candidates, signatures, wrong_output_candidates
 

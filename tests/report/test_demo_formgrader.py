@@ -1,4 +1,4 @@
-"""After ``deformlab demo``, formgrader (nbgrader's API, which its pages show) sees the demo class as a course's.
+"""After ``make demo``, formgrader (nbgrader's API, which its pages show) sees the demo class as a course's.
 
 The demo's own steps on a course of one notebook (01): the class written where
 nbgrader's collect puts it, graded into the course's gradebook, then names, the
@@ -22,7 +22,7 @@ from .conftest import ROOT
 @pytest.fixture(scope="module")
 def demo_course(source_notebooks, tmp_path_factory):
     from grader.gradebook import generate_assignment
-    from grader.demo import build_class, show_in_formgrader
+    from tests.demo import build_class, show_in_formgrader
     from grader.pipeline.run import GradeOptions, grade_class
 
     root = tmp_path_factory.mktemp("demo-course")

@@ -1,4 +1,4 @@
-from grader.corpus import teaching_cell
+from tests.corpus import teaching_cell
 
 NOTEBOOK = "06_fast"
 DESCRIPTION = "fast_precompute() builds Q = Aᵀ(-L)A, forgetting that every edge counts in the cells of its triangle's three corners (Q = 3 Aᵀ(-L)A)"

@@ -1,4 +1,4 @@
-from grader.corpus import teaching_cell
+from tests.corpus import teaching_cell
 
 NOTEBOOK = "06_fast"
 DESCRIPTION = "fast_rotations() takes every vertex's own best rotation and projects each cluster's average rotation, instead of the rotation of the cluster's summed covariance"

@@ -1,4 +1,4 @@
-"""``deformlab demo``: release the assignment, grade a small synthetic class, print the table.
+"""``make demo`` (``python -m tests.demo``): release the assignment, grade a small synthetic class, print the table.
 
 The class hands in every notebook of the assignment per student:
 
@@ -12,7 +12,7 @@ with ``timestamp.txt``) and is graded into the course's gradebook, with names an
 so formgrader, opened as the README says (``cd assignments && jupyter lab``), shows it: every
 submission autograded, each tests cell with its verdicts, the written answers waiting for a TA.
 
-It runs from a checkout: the corpus files live in ``tests/``.
+It runs from a checkout, not from an installed kit: the class is made of the corpus in ``tests/corpus``.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from pathlib import Path
 import nbformat
 
 from grader.course_pack import default_assignment
-from grader.corpus import CorpusEntry, build_submission, load_entry, student_notebook
+from tests.corpus import CorpusEntry, build_submission, load_entry, student_notebook
 from grader.paths import course_paths
 from grader.report.scores import score_table
 
@@ -185,3 +185,19 @@ def run_demo(out: Path, workers: int | None = None) -> int:
     for note in notes:
         print(f"  {note}")
     return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m tests.demo", description="release, grade a small synthetic class, print the table")
+    parser.add_argument("--out", default="demo-out", help="output folder (default: demo-out)")
+    parser.add_argument("--workers", type=int, default=None, help="parallel notebooks (default: number of cores)")
+    args = parser.parse_args(argv)
+    if args.workers is not None and args.workers < 1:
+        parser.error(f"--workers must be at least 1, got {args.workers}")
+    return run_demo(Path(args.out), workers=args.workers)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -271,7 +271,7 @@ def teaching_cell(notebook: str, function: str) -> str:
     """
     from grader.build.authored import read_authored
 
-    path = Path(__file__).resolve().parents[1] / "notebooks" / "deformation" / f"{notebook}.py"
+    path = Path(__file__).resolve().parents[2] / "notebooks" / "deformation" / f"{notebook}.py"
     cell = next(c for c in read_authored(path).cells if c.kind == "solution" and c.function == function)
     return _MARKER_LINE.sub("", cell.source)
 
