@@ -11,7 +11,10 @@ Discovery, by configuration: ``c.DeformLab.course_packs = ["deformation", "/srv/
 in the course's ``assignments/nbgrader_config.py`` (entries relative to that
 folder); without the setting, every ``assignments/*/assignment.toml``.
 ``c.DeformLab.default_assignment`` names the assignment commands use when none
-is given (else the first pack).
+is given (else the first pack). ``c.DeformLab.stages = {"geometry": ["00_intro", "02_curves"]}``
+keeps only those stages of an assignment (an instructor's schedule): the
+assignment a pack lookup returns has only them, so building, releasing, grading,
+the bundle, reports and exports follow (:mod:`grader.settings` declares every setting).
 
 A pack's Python code is imported as ``deformlab_packs.<name>`` (a finder on
 ``sys.meta_path`` maps that package to the pack's folder), so its modules import
@@ -62,11 +65,13 @@ import re
 import sys
 import tomllib
 import types
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
 from grader.paths import ROOT_VARIABLE, course_paths
+from grader.settings import CONFIG_FILE, SettingsError, course_settings
 
 PACKAGE = "deformlab_packs"
 MANIFEST = "assignment.toml"
@@ -307,26 +312,17 @@ def load_pack(folder: str | Path) -> Assignment:
 # --- discovery ---------------------------------------------------------------------------------
 
 
-def _configured(course: Path) -> dict:
-    """The ``DeformLab`` section of ``course/nbgrader_config.py`` (empty without one)."""
-    config_file = course / "nbgrader_config.py"
-    if not config_file.is_file():
-        return {}
-    from traitlets.config.loader import PyFileConfigLoader
-
-    return dict(PyFileConfigLoader(config_file.name, path=str(course)).load_config().get("DeformLab", {}))
-
-
 @functools.lru_cache(maxsize=8)
 def _discover(course: Path) -> tuple[tuple[Assignment, ...], str | None]:
-    config = _configured(course)
-    listed = config.get("course_packs")
-    if listed is None:
+    try:
+        settings = course_settings(course)
+    except SettingsError as exc:
+        raise PackError(str(exc)) from None
+    config_file = course / CONFIG_FILE
+    if settings.course_packs is None:
         folders = sorted(p.parent for p in course.glob(f"*/{MANIFEST}"))
-    elif isinstance(listed, (list, tuple)) and all(isinstance(p, str) for p in listed):
-        folders = [(course / p).resolve() for p in listed]
     else:
-        raise PackError(f"{course / 'nbgrader_config.py'}: c.DeformLab.course_packs must be a list of folders, got {listed!r}")
+        folders = [(course / p).resolve() for p in settings.course_packs]
     found = tuple(load_pack(f) for f in folders)
     names = [a.name for a in found]
     if len(set(names)) != len(names):
@@ -334,10 +330,25 @@ def _discover(course: Path) -> tuple[tuple[Assignment, ...], str | None]:
     for declared in found:
         if declared.policy:
             _declare_policy(declared)
-    default = config.get("default_assignment")
+    default = settings.default_assignment
     if default is not None and default not in names:
-        raise PackError(f"{course / 'nbgrader_config.py'}: c.DeformLab.default_assignment = {default!r} is not a pack ({names})")
+        raise PackError(f"{config_file}: c.DeformLab.default_assignment = {default!r} is not a pack ({names})")
+    stray = sorted(set(settings.stages) - set(names))
+    if stray:
+        raise PackError(f"{config_file}: c.DeformLab.stages names {stray[0]!r}, which is not an assignment of the course ({names})")
+    found = tuple(_selected(a, settings.stages[a.name], config_file) if a.name in settings.stages else a for a in found)
     return found, default
+
+
+def _selected(course: Assignment, chosen: list[str], config_file: Path) -> Assignment:
+    """``course`` with only the stages ``chosen`` (``c.DeformLab.stages``), kept in teaching order."""
+    unknown = [s for s in chosen if s not in course.stage_names]
+    if unknown:
+        raise PackError(f"{config_file}: c.DeformLab.stages[{course.name!r}] names {unknown[0]!r}, "
+                        f"which is not a stage of {course.name} (its stages: {list(course.stage_names)})")
+    if len(set(chosen)) != len(chosen):
+        raise PackError(f"{config_file}: c.DeformLab.stages[{course.name!r}] names a stage twice: {chosen}")
+    return dataclasses.replace(course, stages=tuple(s for s in course.stages if s.notebook in chosen))
 
 
 def _declare_policy(course: Assignment) -> None:

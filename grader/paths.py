@@ -73,7 +73,7 @@ class CoursePaths:
 
     def source_notebooks(self, assignment: str) -> list[Path]:
         """The built instructor notebooks of ``assignment``."""
-        return sorted((self.source / assignment).glob("[0-9][0-9]_*.ipynb"))
+        return sorted((self.source / assignment).glob("*.ipynb"))
 
     @property
     def gradebook_url(self) -> str:
@@ -102,14 +102,10 @@ def use_course(root: str | Path) -> CoursePaths:
 
 def _configured_root(folder: Path) -> Path | None:
     """``c.DeformLab.course_root`` of ``folder/nbgrader_config.py``, relative to that folder."""
-    config_file = folder / "nbgrader_config.py"
-    if not config_file.is_file():
-        return None
-    from traitlets.config.loader import PyFileConfigLoader
+    from grader.settings import course_settings
 
-    config = PyFileConfigLoader(config_file.name, path=str(folder)).load_config()
-    value = config.get("DeformLab", {}).get("course_root")
-    return (folder / value).resolve() if isinstance(value, str) else None
+    value = course_settings(folder).course_root
+    return None if value is None else (folder / value).resolve()
 
 
 def course_paths() -> CoursePaths:

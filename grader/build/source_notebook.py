@@ -192,11 +192,20 @@ def build_source_notebook(authored: AuthoredNotebook, course: Assignment | None 
 
 
 def authored_notebooks(assignment: str) -> list[Path]:
-    """The authored notebooks (``NN_stage.py``) of ``assignment``, from its course pack's notebooks folder."""
-    folder = pack(assignment).notebooks
-    paths = sorted(folder.glob("[0-9][0-9]_*.py"))
-    if not paths:
-        raise AuthoringError(f"no authored notebooks (NN_stage.py) in {folder}")
+    """The authored notebooks (``NN_stage.py``) of ``assignment``'s stages, in teaching order.
+
+    Only the stages the course includes (``c.DeformLab.stages``, else every stage of its pack).
+
+    Raises
+    ------
+    AuthoringError
+        If a stage has no authored notebook in the pack's notebooks folder.
+    """
+    course = pack(assignment)
+    paths = [course.notebooks / f"{stage}.py" for stage in course.stage_names]
+    missing = [p.name for p in paths if not p.is_file()]
+    if missing or not paths:
+        raise AuthoringError(f"{course.notebooks}: no authored notebook for stage(s) {missing or '(none declared)'} of {assignment}")
     return paths
 
 
@@ -217,4 +226,7 @@ def build_sources(source_dir: Path, assignment: str) -> list[Path]:
         target = out_dir / f"{path.stem}.ipynb"
         nbformat.write(nb, target)
         written.append(target)
+    for stale in out_dir.glob("*.ipynb"):  # a stage the course no longer includes
+        if stale not in written:
+            stale.unlink()
     return written
