@@ -42,6 +42,8 @@ worker, a Dask worker or a test.
     backward_euler_step = []
     [builds_on]                             # graded functions a function builds on (it may not call what they may not)
     backward_euler_step = ["umbrella_operator"]
+    [grading]                               # optional: the pack's own steps of a unit, after verification
+    steps = ["notes:written_answers_left"]  # module:function of this folder, step(unit) (grader/pipeline/unit.py)
     [[stages]]
     notebook = "00_smoothing"
     functions = ["umbrella_operator", "backward_euler_step"]
@@ -76,12 +78,15 @@ from grader.settings import CONFIG_FILE, SettingsError, course_settings
 PACKAGE = "deformlab_packs"
 MANIFEST = "assignment.toml"
 _NAME = re.compile(r"^[a-z][a-z0-9_]{0,63}$")
-_STAGE = re.compile(r"^[0-9]{2}_[a-z][a-z0-9_]{0,63}$")
+# two digits, and a letter for a stage inserted between two (02b_ sorts after 02_, before 03_)
+_STAGE = re.compile(r"^[0-9]{2}[a-z]?_[a-z][a-z0-9_]{0,63}$")
+_STEP = re.compile(r"^[A-Za-z_][A-Za-z0-9_.]{0,99}:[A-Za-z_][A-Za-z0-9_]{0,99}$")
 _FUNCTION = re.compile(r"^[A-Za-z_][A-Za-z0-9_]{0,99}$")
 _KEYS = {"name", "title", "notebooks", "reference", "checks", "pictures", "contract", "hidden_packages", "preload", "data",
-         "bundle", "policy", "builds_on", "stages"}
+         "bundle", "policy", "builds_on", "stages", "grading"}
 _STAGE_KEYS = {"notebook", "functions", "bonus", "reference"}
 _BUNDLE_KEYS = {"readme", "files", "demos"}
+_GRADING_KEYS = {"steps"}
 
 
 class PackError(ValueError):
@@ -131,6 +136,7 @@ class Assignment:
     demos: tuple[str, ...] = ()
     policy: dict[str, tuple[str, ...]] = field(default_factory=dict)
     builds_on: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    steps: tuple[str, ...] = ()
 
     # --- the contract ---------------------------------------------------------------------------
     @property
@@ -192,6 +198,23 @@ class Assignment:
     def reference_packages(self) -> tuple[str, ...]:
         """The top-level packages of the reference modules (the sandbox hides them)."""
         return tuple(sorted({(s.reference or self.reference).split(".")[0] for s in self.stages}))
+
+    def grading_steps(self) -> tuple[Callable, ...]:
+        """The pack's own grading steps (``[grading] steps``), run after verification: ``step(unit) -> None``.
+
+        Raises
+        ------
+        PackError
+            If a step's module or function is missing, naming the manifest and the step.
+        """
+        found = []
+        for step in self.steps:
+            module, function = step.split(":")
+            try:
+                found.append(getattr(self.module(module), function))
+            except (ImportError, AttributeError) as exc:
+                raise _fail(self.folder / MANIFEST, f"[grading] steps: {step!r} cannot be loaded: {exc}") from None
+        return tuple(found)
 
     def checks_module(self) -> types.ModuleType:
         return self.module(self.checks)
@@ -264,7 +287,8 @@ def load_pack(folder: str | Path) -> Assignment:
             raise _fail(path, f"stages[{i}] has unknown keys {sorted(set(raw) - _STAGE_KEYS)} (a stage declares {sorted(_STAGE_KEYS)})")
         notebook = _string(path, raw, "notebook")
         if notebook is None or not _STAGE.match(notebook):
-            raise _fail(path, f"stages[{i}].notebook must read NN_name (two digits, an identifier), got {notebook!r}")
+            raise _fail(path, f"stages[{i}].notebook must read NN_name or NNa_name (two digits, a letter for a stage "
+                               f"inserted between two, an identifier), got {notebook!r}")
         functions = _strings(path, raw, "functions", _FUNCTION)
         for f in functions:
             if f in seen:
@@ -276,9 +300,15 @@ def load_pack(folder: str | Path) -> Assignment:
         stages.append(Stage(notebook, functions, bonus, _string(path, raw, "reference")))
     if len({s.notebook for s in stages}) != len(stages):
         raise _fail(path, "two stages have the same notebook")
-    bundle, policy, builds_on = (table.get(key, {}) for key in ("bundle", "policy", "builds_on"))
-    if not all(isinstance(t, dict) for t in (bundle, policy, builds_on)):
-        raise _fail(path, "[bundle], [policy] and [builds_on] must be tables")
+    bundle, policy, builds_on, grading = (table.get(key, {}) for key in ("bundle", "policy", "builds_on", "grading"))
+    if not all(isinstance(t, dict) for t in (bundle, policy, builds_on, grading)):
+        raise _fail(path, "[bundle], [policy], [builds_on] and [grading] must be tables")
+    if set(grading) - _GRADING_KEYS:
+        raise _fail(path, f"[grading] has unknown keys {sorted(set(grading) - _GRADING_KEYS)} (it declares {sorted(_GRADING_KEYS)})")
+    steps = _strings(path, grading, "steps")
+    bad_steps = [s for s in steps if not _STEP.match(s)]
+    if bad_steps:
+        raise _fail(path, f"[grading] steps must read 'module:function' (a module of the pack's folder), got {bad_steps!r}")
     if set(bundle) - _BUNDLE_KEYS:
         raise _fail(path, f"[bundle] has unknown keys {sorted(set(bundle) - _BUNDLE_KEYS)} (it declares {sorted(_BUNDLE_KEYS)})")
     for key, rows in (("policy", policy), ("builds_on", builds_on)):
@@ -306,6 +336,7 @@ def load_pack(folder: str | Path) -> Assignment:
         demos=_strings(path, bundle, "demos", _FUNCTION),
         policy={f: _strings(path, policy, f) for f in policy},
         builds_on={f: _strings(path, builds_on, f, _FUNCTION) for f in builds_on},
+        steps=steps,
     )
 
 

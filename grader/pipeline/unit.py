@@ -11,11 +11,13 @@ the dict; recording stays in one process (``grader.pipeline.record``).
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import json
 import re
 import time
 import traceback
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -24,11 +26,11 @@ import nbformat
 from grader.harness.fixtures import write_fixtures
 from grader.paths import course_paths
 from grader.harness.outputs import OutputError, read_outputs
-from grader.pipeline.execute import ExecuteOptions, execute, prestart
+from grader.pipeline.execute import Execution, ExecuteOptions, execute, prestart
 from grader.pipeline.feedback import feedback_html
 from grader.pipeline.guard import GraderLimitExceeded, grader_limits, peak_rss_bytes, reset_peak_rss
 from grader.pipeline.neutralize import neutralize
-from grader.pipeline.sanitize import SubmissionError, parse_submission, read_submission_bytes, sanitize
+from grader.pipeline.sanitize import Sanitized, SubmissionError, parse_submission, read_submission_bytes, sanitize
 from grader.pipeline.verify import graded_cells, hidden_cases, recording, verify
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.report.digest import output_digest
@@ -129,8 +131,217 @@ def _result(spec: UnitSpec, status: str, tests: list[dict], reasons: list[str], 
     }
 
 
+@dataclass
+class Unit:
+    """What one unit's steps pass along, as nbgrader's preprocessors pass ``(nb, resources)``.
+
+    Each step reads what earlier ones left and adds its own part; a step that
+    ends the unit early (nothing to grade, an invalid file) sets ``result``.
+
+    Attributes
+    ----------
+    spec : UnitSpec
+    readonly : list of str
+        Host paths the kernel may read.
+    started : float
+        ``time.monotonic()`` when the unit began.
+    source : NotebookNode
+        The instructor notebook.
+    sanitized : Sanitized or None
+        The submission rebuilt on the source's cells (:func:`grader.pipeline.sanitize.sanitize`).
+    ws : Workspace or None
+        The unit's sandbox folder, for the steps that run inside it.
+    kernel : SandboxedKernelManager or None
+        A kernel launched ahead of time in ``ws``, for the first kernel life.
+    broken : dict of str to str
+        Functions whose hidden inputs the grader could not prepare, and why (they score 0).
+    run : Execution or None
+        What executing the notebook and collecting the outputs gave.
+    tests : list of dict
+        One row per graded function (``grades.csv``'s tests).
+    verified : list of tuple
+        ``(GradedCell, FunctionResult, Collected or None)`` per function, for the feedback page.
+    notes : list of str
+        Shown to the student on the feedback page, before the reasons and events.
+    result : dict or None
+        The unit's result once it is decided.
+    """
+
+    spec: UnitSpec
+    readonly: list[str]
+    started: float
+    source: nbformat.NotebookNode
+    sanitized: Sanitized | None = None
+    ws: Workspace | None = None
+    kernel: SandboxedKernelManager | None = None
+    broken: dict[str, str] = field(default_factory=dict)
+    run: Execution | None = None
+    tests: list[dict] = field(default_factory=list)
+    verified: list[tuple] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    feedback: str | None = None
+    result: dict | None = None
+
+    @functools.cached_property
+    def cells(self) -> list:
+        """The source's graded cells (:class:`grader.pipeline.verify.GradedCell`), in notebook order."""
+        return graded_cells(self.source)
+
+
+#: A step of a unit: reads and extends the :class:`Unit`; sets ``unit.result`` to end it early.
+Step = Callable[[Unit], None]
+
+
+def read(unit: Unit) -> None:
+    """Step 1: end the unit if no notebook was handed in or the file could not be read."""
+    spec = unit.spec
+    if spec.submission_error is not None:
+        unit.result = _ungraded(unit, "invalid", spec.submission_error)
+    elif spec.submission is None:
+        unit.result = _ungraded(unit, "missing", f"no {spec.notebook}.ipynb was submitted",
+                                shown=f"No {spec.notebook}.ipynb was submitted.")
+
+
+def sanitize_submission(unit: Unit) -> None:
+    """Step 2: rebuild the submission on the source's cells (:mod:`grader.pipeline.sanitize`)."""
+    try:
+        unit.sanitized = sanitize(parse_submission(unit.spec.submission), unit.source)
+    except SubmissionError as exc:
+        unit.result = _ungraded(unit, "invalid", str(exc))
+
+
+def prepare_inputs(unit: Unit) -> None:
+    """Step 3, in the sandbox's folder: write each graded function's hidden inputs for the kernel."""
+    spec = unit.spec
+    for cell in unit.cells:
+        try:
+            write_fixtures(cell.function, hidden_cases(cell.function, spec.seed, spec.assignment)[0], unit.ws.work / "fixtures",
+                           recording(cell.function, spec.seed, spec.assignment))
+        except Exception as exc:  # noqa: BLE001 - costs this function, not the notebook
+            unit.broken[cell.function] = f"grader error preparing hidden cases: {type(exc).__name__}: {exc}"
+
+
+def execute_notebook(unit: Unit) -> None:
+    """Step 4: run the notebook and collect each function's outputs in the sandbox (:mod:`grader.pipeline.execute`)."""
+    spec, workdir = unit.spec, unit.ws.work
+    (workdir / "outputs").mkdir()
+    (workdir / f"{spec.notebook}.ipynb").write_text(_notebook_json(unit.sanitized.nb), encoding="utf-8")
+    unit.run = execute(
+        unit.sanitized.nb,
+        unit.sanitized.plan,
+        [c.function for c in unit.cells if c.function not in unit.broken],
+        workdir,
+        workdir / "fixtures",
+        workdir / "outputs",
+        _execute_options(spec, unit.readonly, unit.ws),
+        kernel=unit.kernel,
+    )
+    pool = spares.pool()  # open in grading workers (grader.pipeline.workers)
+    if pool is not None:  # the student's kernel is gone: the next unit's boots while this one is verified
+        _prestart_next(pool, spec, unit.readonly)
+
+
+def verify_outputs(unit: Unit) -> None:
+    """Step 5: judge each function's collected outputs against the reference (:mod:`grader.pipeline.verify`)."""
+    spec, nb, run = unit.spec, unit.sanitized.nb, unit.run
+    failed_defs = {fn: i for i, _ in run.cell_failures.items() for fn in _defined(nb.cells[i])}
+    for cell in unit.cells:
+        if cell.function in unit.broken:
+            unit.tests.append({"grade_id": cell.grade_id, "function": cell.function, "points": cell.points,
+                               "score": 0.0, "summary": unit.broken[cell.function], "cases": []})
+            continue
+        outputs = unit.ws.work / "outputs"
+        result, collected = _verified(cell.function, spec.seed, outputs, run.collection_failures.get(cell.function), spec.assignment)
+        if cell.function in failed_defs and result.cases and all(
+                (c.error or "").startswith(f"NameError: {cell.function} is not defined") for c in result.cases):
+            # Its defining cell failed (a syntax error, say): say so, not "NameError".
+            i = failed_defs[cell.function]
+            result = verify(cell.function, spec.seed, None,
+                            f"{cell.function} was never defined: {_cell_name(nb.cells[i])} failed with "
+                            f"{run.cell_failures[i]}", spec.assignment)
+            collected = None
+        # Pictures only where a case failed: a passing function's picture tells its student
+        # nothing new, and drawing it cost as much CPU as the rest of the unit.
+        unit.verified.append((cell, result, collected if result.fraction < 1 else None))
+        unit.tests.append(
+            {
+                "grade_id": cell.grade_id,
+                "function": cell.function,
+                "points": cell.points,
+                "score": round(cell.points * result.fraction, 4),
+                "summary": result.summary(),
+                "policy_violations": list(result.policy_violations),
+                "cases": [
+                    {
+                        "label": c.label,
+                        "passed": c.passed,
+                        "error": c.error,
+                        "seconds": c.seconds,
+                        "failed": [f"{v.name}: {v.detail}" for v in c.verdicts if not v.passed],
+                        # Wrong outputs only: identical ones across students are collusion evidence (grader/report/collusion.py).
+                        "digest": _wrong_output_digest(c, collected, k),
+                    }
+                    for k, c in enumerate(result.cases)
+                ],
+            }
+        )
+    pool = spares.pool()
+    if pool is not None:  # its sandbox was built while this unit was verified; its kernel boots now
+        pool.complete_launch()
+
+
+def neutralize_outputs(unit: Unit) -> None:
+    """Step 6: make the executed notebook inert for a TA's browser (:mod:`grader.pipeline.neutralize`)."""
+    unit.notes = unit.spec.notes + unit.sanitized.notes + neutralize(unit.sanitized.nb, unit.source) + unit.notes
+
+
+def render_feedback(unit: Unit) -> None:
+    """Step 7: the student's feedback page and the unit's result (:mod:`grader.pipeline.feedback`)."""
+    spec, nb, run = unit.spec, unit.sanitized.nb, unit.run
+    reasons = [f"{_cell_name(nb.cells[i])}: {why}" for i, why in sorted(run.cell_failures.items())]
+    status = "grader-error" if unit.broken else "graded" if not run.events else "graded-with-incidents"
+    reasons += list(unit.broken.values())
+    messages = unit.notes + reasons + run.events
+    try:
+        with grader_limits():
+            feedback = feedback_html(spec, unit.verified, messages)
+    except (GraderLimitExceeded, MemoryError):
+        feedback = feedback_html(spec, [], [*messages, "Your outputs were too large or slow to draw; the scores above stand."])
+    unit.result = _result(
+        spec,
+        status,
+        unit.tests,
+        reasons,
+        unit.started,
+        notes=unit.notes,
+        events=run.events,
+        peak_rss_bytes=run.peak_rss_bytes,
+        execution_s=round(run.seconds, 3),
+        feedback_html=feedback,
+        autograded_notebook=_notebook_json(nb),
+    )
+
+
+#: The steps before a unit gets a sandbox, and those inside it, in order.
+ON_HOST: tuple[Step, ...] = (read, sanitize_submission)
+IN_SANDBOX: tuple[Step, ...] = (prepare_inputs, execute_notebook, verify_outputs)
+#: After verification: a course pack's own steps (``[grading] steps``), then these.
+FINISH: tuple[Step, ...] = (neutralize_outputs, render_feedback)
+
+
+def unit_steps(assignment: str | None) -> tuple[tuple[Step, ...], tuple[Step, ...]]:
+    """``(on the host, in the sandbox)``: the steps of a unit of ``assignment``, its course pack's own included.
+
+    A course pack's steps (``[grading] steps`` in its assignment.toml) run after verification,
+    before the feedback page: they see every verdict and may add notes for the student.
+    """
+    from grader.course_pack import pack
+
+    return ON_HOST, IN_SANDBOX + pack(assignment).grading_steps() + FINISH
+
+
 def grade_unit(spec: UnitSpec, readonly: list[str] | None = None) -> dict:
-    """Grade one submitted notebook. Never raises for anything the student did.
+    """Grade one submitted notebook: its steps (:func:`unit_steps`), in order. Never raises for anything the student did.
 
     Parameters
     ----------
@@ -148,24 +359,22 @@ def grade_unit(spec: UnitSpec, readonly: list[str] | None = None) -> dict:
     """
     started = time.monotonic()
     reset_peak_rss()
-    source = nbformat.reads(spec.source, as_version=4)
-    if spec.submission_error is not None:
-        return _ungraded(spec, source, "invalid", spec.submission_error, started)
-    if spec.submission is None:
-        return _ungraded(spec, source, "missing", f"no {spec.notebook}.ipynb was submitted", started,
-                         shown=f"No {spec.notebook}.ipynb was submitted.")
+    unit = Unit(spec, [], started, nbformat.reads(spec.source, as_version=4))
     try:
-        sanitized = sanitize(parse_submission(spec.submission), source)
-    except SubmissionError as exc:
-        return _ungraded(spec, source, "invalid", str(exc), started)
-    except Exception as exc:  # noqa: BLE001 - the grader's own failure on this file: this row says so
-        return _grader_error(spec, source, exc, started)
-    readonly = course_readonly() if readonly is None else readonly
-    try:
-        with _sandbox(spec, readonly) as (ws, kernel):
-            return _grade_in(ws, kernel, spec, source, sanitized, readonly, started)
-    except Exception as exc:  # noqa: BLE001 - the grader's own failure: this row says so, the run goes on
-        return _grader_error(spec, source, exc, started)
+        on_host, in_sandbox = unit_steps(spec.assignment)
+        for step in on_host:
+            step(unit)
+            if unit.result is not None:
+                return unit.result
+        unit.readonly = course_readonly() if readonly is None else readonly
+        with _sandbox(spec, unit.readonly) as (unit.ws, unit.kernel):
+            for step in in_sandbox:
+                step(unit)
+                if unit.result is not None:
+                    return unit.result
+        raise RuntimeError(f"no step of {spec.assignment}'s grading gave the unit a result")
+    except Exception as exc:  # noqa: BLE001 - the grader's own failure on this unit: this row says so, the run goes on
+        return _grader_error(spec, unit.source, exc, started)
 
 
 def _sandbox_key(spec: UnitSpec, readonly: list[str]) -> tuple:
@@ -201,101 +410,6 @@ def _execute_options(spec: UnitSpec, readonly: list[str], ws: Workspace) -> Exec
         max_processes=spec.max_processes,
         readonly=[Path(p) for p in readonly],
         runtime_root=ws.kernels,
-    )
-
-
-def _grade_in(ws: Workspace, kernel: SandboxedKernelManager | None, spec: UnitSpec, source, sanitized, readonly: list[str], started: float) -> dict:
-    """Steps 2–5 of one unit inside its workspace ``ws`` (with ``kernel``, launched there ahead of time, if not None)."""
-    cells = graded_cells(source)
-    workdir = ws.work
-    fixtures, outputs = workdir / "fixtures", workdir / "outputs"
-    outputs.mkdir()
-    broken: dict[str, str] = {}  # functions whose hidden cases the reference itself failed on
-    for cell in cells:
-        try:
-            write_fixtures(cell.function, hidden_cases(cell.function, spec.seed, spec.assignment)[0], fixtures,
-                           recording(cell.function, spec.seed, spec.assignment))
-        except Exception as exc:  # noqa: BLE001 - costs this function, not the notebook
-            broken[cell.function] = f"grader error preparing hidden cases: {type(exc).__name__}: {exc}"
-    (workdir / f"{spec.notebook}.ipynb").write_text(_notebook_json(sanitized.nb), encoding="utf-8")
-    run = execute(
-        sanitized.nb,
-        sanitized.plan,
-        [c.function for c in cells if c.function not in broken],
-        workdir,
-        fixtures,
-        outputs,
-        _execute_options(spec, readonly, ws),
-        kernel=kernel,
-    )
-    pool = spares.pool()  # open in grading workers (grader.pipeline.workers)
-    if pool is not None:  # the student's kernel is gone: the next unit's boots while this one is verified
-        _prestart_next(pool, spec, readonly)
-    failed_defs = {fn: i for i, _ in run.cell_failures.items() for fn in _defined(sanitized.nb.cells[i])}
-    tests, results = [], []
-    for cell in cells:
-        if cell.function in broken:
-            tests.append({"grade_id": cell.grade_id, "function": cell.function, "points": cell.points,
-                          "score": 0.0, "summary": broken[cell.function], "cases": []})
-            continue
-        result, collected = _verified(cell.function, spec.seed, outputs, run.collection_failures.get(cell.function), spec.assignment)
-        if cell.function in failed_defs and result.cases and all(
-                (c.error or "").startswith(f"NameError: {cell.function} is not defined") for c in result.cases):
-            # Its defining cell failed (a syntax error, say): say so, not "NameError".
-            i = failed_defs[cell.function]
-            result = verify(cell.function, spec.seed, None,
-                            f"{cell.function} was never defined: {_cell_name(sanitized.nb.cells[i])} failed with "
-                            f"{run.cell_failures[i]}", spec.assignment)
-            collected = None
-        # Pictures only where a case failed: a passing function's picture tells its student
-        # nothing new, and drawing it cost as much CPU as the rest of the unit.
-        results.append((cell, result, collected if result.fraction < 1 else None))
-        tests.append(
-            {
-                "grade_id": cell.grade_id,
-                "function": cell.function,
-                "points": cell.points,
-                "score": round(cell.points * result.fraction, 4),
-                "summary": result.summary(),
-                "policy_violations": list(result.policy_violations),
-                "cases": [
-                    {
-                        "label": c.label,
-                        "passed": c.passed,
-                        "error": c.error,
-                        "seconds": c.seconds,
-                        "failed": [f"{v.name}: {v.detail}" for v in c.verdicts if not v.passed],
-                        # Wrong outputs only: identical ones across students are collusion evidence (grader/report/collusion.py).
-                        "digest": _wrong_output_digest(c, collected, k),
-                    }
-                    for k, c in enumerate(result.cases)
-                ],
-            }
-        )
-    if pool is not None:  # its sandbox was built while this unit was verified; its kernel boots now
-        pool.complete_launch()
-    reasons = [f"{_cell_name(sanitized.nb.cells[i])}: {why}" for i, why in sorted(run.cell_failures.items())]
-    status = "grader-error" if broken else "graded" if not run.events else "graded-with-incidents"
-    reasons += list(broken.values())
-    notes = spec.notes + sanitized.notes + neutralize(sanitized.nb, source)  # nothing active reaches a TA's browser
-    messages = notes + reasons + run.events
-    try:
-        with grader_limits():
-            feedback = feedback_html(spec, results, messages)
-    except (GraderLimitExceeded, MemoryError):
-        feedback = feedback_html(spec, [], [*messages, "Your outputs were too large or slow to draw; the scores above stand."])
-    return _result(
-        spec,
-        status,
-        tests,
-        reasons,
-        started,
-        notes=notes,
-        events=run.events,
-        peak_rss_bytes=run.peak_rss_bytes,
-        execution_s=round(run.seconds, 3),
-        feedback_html=feedback,
-        autograded_notebook=_notebook_json(sanitized.nb),
     )
 
 
@@ -354,9 +468,10 @@ def _wrong_output_digest(case, collected, k: int) -> str | None:
     return output_digest(collected.cases[k].value) or None
 
 
-def _ungraded(spec: UnitSpec, source: nbformat.NotebookNode, status: str, reason: str, started: float, shown: str | None = None) -> dict:
+def _ungraded(unit: Unit, status: str, reason: str, shown: str | None = None) -> dict:
     """Zero on every cell, the reason on the feedback page, no executed notebook."""
-    return zero_result(spec, source, status, reason, started) | {
+    spec = unit.spec
+    return zero_result(spec, unit.source, status, reason, unit.started) | {
         "feedback_html": feedback_html(spec, [], [shown or reason]),
         "autograded_notebook": None,
     }

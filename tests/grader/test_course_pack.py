@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 import textwrap
 from pathlib import Path
 
@@ -63,6 +64,9 @@ def test_a_manifest_is_read_with_its_defaults(tmp_path):
         (lambda m: m.replace("bonus = true", "points = 3"), "stages[1] has unknown keys ['points']"),
         (lambda m: m + "= broken\n", "not valid TOML"),
         (lambda m: m.replace('functions = ["double"]', 'functions = ["dou ble"]'), "not identifiers"),
+        (lambda m: m.replace('"01_more"', '"01bb_more"'), "stages[1].notebook must read NN_name or NNa_name"),
+        (lambda m: m + '[grading]\nsteps = ["notes.py"]\n', "[grading] steps must read 'module:function'"),
+        (lambda m: m + '[grading]\nstep = ["notes:hint"]\n', "[grading] has unknown keys ['step']"),
     ],
 )
 def test_a_malformed_manifest_is_refused_naming_the_file_and_the_key(tmp_path, change, message):
@@ -71,6 +75,26 @@ def test_a_malformed_manifest_is_refused_naming_the_file_and_the_key(tmp_path, c
         load_pack(folder)
     assert message in str(caught.value)
     assert str(folder / "assignment.toml") in str(caught.value)
+
+
+def test_a_stage_inserted_between_two_sorts_between_them():
+    assert sorted(["03_arap", "02b_k_harmonic", "02_sign_correction"]) == ["02_sign_correction", "02b_k_harmonic", "03_arap"]
+
+
+def test_a_pack_s_grading_step_that_cannot_be_loaded_is_refused_naming_the_manifest_and_the_step(tmp_path):
+    folder = _pack(tmp_path, MANIFEST + '[grading]\nsteps = ["notes:hint"]\n')
+    (folder / "notes.py").write_text("def other(unit):\n    pass\n")
+    course = load_pack(folder)
+    assert course.steps == ("notes:hint",)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(course_pack, "packs", lambda: {"tiny": course})
+        try:
+            with pytest.raises(PackError) as caught:
+                course.grading_steps()
+        finally:  # this folder's modules must not answer for another test's pack named tiny
+            for name in [n for n in sys.modules if n.startswith("deformlab_packs.tiny")]:
+                del sys.modules[name]
+    assert str(folder / "assignment.toml") in str(caught.value) and "'notes:hint' cannot be loaded" in str(caught.value)
 
 
 def test_a_folder_without_a_manifest_is_not_a_pack(tmp_path):

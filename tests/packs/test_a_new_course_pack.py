@@ -85,6 +85,10 @@ def test_it_grades_reports_and_exports_with_no_engine_file_changed(course):
     assert scores == {"teaching": 2.0, "blank": 0.0, "shortcut": 0.0}
     shortcut = next(r for r in results if r["student_id"] == "shortcut")
     assert "igl.doublearea" in shortcut["tests"][0]["summary"], "the pack's library policy is enforced when grading"
+    hint = "Hint from the course: check a mesh with a zero-area (degenerate) triangle first."
+    notes = {r["student_id"]: r.get("notes", []) for r in results}
+    assert hint in notes["shortcut"] and hint in notes["blank"] and hint not in notes["teaching"], "the pack's own step ran"
+    assert hint in (out / "feedback" / "shortcut" / "00_areas.html").read_text()
     assert main(["report", str(out)]) == 0 and "00_areas" in (out / "report" / "index.html").read_text()
     assert main(["export", str(out), "--to", "moodle", "--file", str(tmp / "moodle.csv"), "--db", f"sqlite:///{tmp}/gb.db"]) == 0
     assert len(list(csv.reader((tmp / "moodle.csv").open()))) == 1 + 3
