@@ -5,8 +5,12 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
+
+if TYPE_CHECKING:
+    from grader.pipeline.run import GradeOptions
 
 #: GiB of address space below which no kernel starts.
 MIN_MEMORY_GIB = 0.5
@@ -110,26 +114,40 @@ def _late_policy(args):
     return due, late_policy.configured_plugin(config), budget
 
 
+def grade_options(args) -> GradeOptions:
+    """``deformlab grade``'s options: its flags, else the course's ``c.Grading.*`` settings, else the defaults."""
+    from grader.paths import course_paths
+    from grader.pipeline.run import GradeOptions
+    from grader.settings import grading_settings
+
+    configured = grading_settings(course_paths().course)
+
+    def given(flag, setting):
+        return setting if flag is None else flag
+
+    return GradeOptions(
+        workers=given(args.workers, configured.workers or None),
+        timeout=given(args.timeout, configured.cell_timeout),
+        memory_gb=given(args.memory, configured.memory_gib),
+        max_processes=given(args.max_processes, configured.max_processes),
+        db_url=args.db,
+        seed=args.seed,
+        assignment=args.assignment,
+        wall=given(args.wall, configured.notebook_wall),
+        disk_bytes=given(args.disk, configured.disk_mib) * 2**20,
+        student=args.student,
+        scheduler=args.scheduler,
+        allow_unsandboxed=args.allow_unsandboxed,
+    )
+
+
 def _cmd_grade(args) -> int:
     from grader.pipeline.run import GradeOptions, grade_class
     from grader.paths import course_paths
     from grader.report.class_report import collusion_of_run, write_class_report
     from grader.report.scores import class_summary
 
-    options = GradeOptions(
-        workers=args.workers,
-        timeout=args.timeout,
-        memory_gb=args.memory,
-        max_processes=args.max_processes,
-        db_url=args.db,
-        seed=args.seed,
-        assignment=args.assignment,
-        wall=args.wall,
-        disk_bytes=args.disk * 2**20,
-        student=args.student,
-        scheduler=args.scheduler,
-        allow_unsandboxed=args.allow_unsandboxed,
-    )
+    options = grade_options(args)
     due, plugin, late_days = _late_policy(args)
     from grader.late_policy import apply_late_policy, keep_late_columns, previous_late_columns
 
@@ -328,21 +346,20 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("grade", help="grade SUBMITTED/<student_id>/<assignment>/<notebook>.ipynb in a sandbox")
     p.add_argument("submitted", help="folder with one sub-folder per student")
     p.add_argument("--out", required=True, help="where grades.csv, feedback/ and log.jsonl go")
-    p.add_argument("--workers", type=_positive_int, default=None, help="parallel notebooks (default: number of cores)")
-    p.add_argument("--timeout", type=_positive_float, default=60.0, help="seconds per cell before the kernel is killed (default: 60)")
-    p.add_argument("--memory", type=_memory_gib, default=4.0, help="GiB of address space per kernel (default: 4)")
-    p.add_argument(
-        "--wall", type=_positive_float, default=900.0, help="seconds a whole notebook may run, replays after restarts included (default: 900)"
-    )
-    p.add_argument(
-        "--disk", type=_positive_int, default=1024, help="MiB each student's working folder may hold: a tmpfs, where the grader runs as root (default: 1024)"
-    )
-    p.add_argument(
-        "--max-processes",
-        type=_positive_int,
-        default=DEFAULT_MAX_PROCESSES,
-        help="processes and threads a kernel may run at once (a pids cgroup, where the host allows one)",
-    )
+    # Defaults: c.Grading.* in the course's nbgrader_config.py (grader/settings.py), else the values shown.
+    p.add_argument("--workers", type=_positive_int, default=None,
+                   help="parallel notebooks (default: c.Grading.workers, else number of cores)")
+    p.add_argument("--timeout", type=_positive_float, default=None,
+                   help="seconds per cell before the kernel is killed (default: c.Grading.cell_timeout, else 60)")
+    p.add_argument("--memory", type=_memory_gib, default=None, help="GiB of address space per kernel (default: c.Grading.memory_gib, else 4)")
+    p.add_argument("--wall", type=_positive_float, default=None,
+                   help="seconds a whole notebook may run, replays after restarts included (default: c.Grading.notebook_wall, else 900)")
+    p.add_argument("--disk", type=_positive_int, default=None,
+                   help="MiB each student's working folder may hold: a tmpfs, where the grader runs as root "
+                        "(default: c.Grading.disk_mib, else 1024)")
+    p.add_argument("--max-processes", type=_positive_int, default=None,
+                   help=f"processes and threads a kernel may run at once, a pids cgroup where the host allows one "
+                        f"(default: c.Grading.max_processes, else {DEFAULT_MAX_PROCESSES})")
     p.add_argument("--db", default=None, help="SQLAlchemy URL of the nbgrader gradebook (default: the course's SQLite)")
     p.add_argument("--seed", type=int, default=None, help="seed of the hidden inputs (default: fresh, recorded in the log)")
     p.add_argument("--assignment", default=None, help=assignment_help)

@@ -12,10 +12,12 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from traitlets import Dict, List, TraitError, Unicode
+from traitlets import Dict, Float, Int, List, TraitError, Unicode, validate
 from traitlets.config import Config, Configurable
 
-__all__ = ["DeformLab", "SettingsError", "course_settings", "course_config"]
+from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
+
+__all__ = ["DeformLab", "Grading", "SettingsError", "course_settings", "grading_settings", "course_config"]
 
 CONFIG_FILE = "nbgrader_config.py"
 
@@ -46,6 +48,29 @@ class DeformLab(Configurable):
     ).tag(config=True)
 
 
+class Grading(Configurable):
+    """Each unit's limits and a run's parallelism (``c.Grading.<setting>``); ``deformlab grade``'s flags override them."""
+
+    cell_timeout = Float(60.0, help="seconds a cell may run before its kernel is killed").tag(config=True)
+    notebook_wall = Float(900.0, help="seconds a whole notebook may run, replays after restarts included").tag(config=True)
+    memory_gib = Float(4.0, help="GiB of address space per kernel").tag(config=True)
+    disk_mib = Int(1024, help="MiB each student's working folder may hold (a tmpfs, where the grader runs as root)").tag(config=True)
+    max_processes = Int(DEFAULT_MAX_PROCESSES, help="processes and threads a kernel may run at once").tag(config=True)
+    workers = Int(0, help="notebooks graded in parallel (0: one per core)").tag(config=True)
+
+    @validate("cell_timeout", "notebook_wall", "memory_gib", "disk_mib", "max_processes")
+    def _positive(self, proposal):
+        if proposal["value"] <= 0:
+            raise TraitError(f"c.Grading.{proposal['trait'].name} must be positive, got {proposal['value']!r}")
+        return proposal["value"]
+
+    @validate("workers")
+    def _workers(self, proposal):
+        if proposal["value"] < 0:
+            raise TraitError(f"c.Grading.workers must be 0 (one per core) or more, got {proposal['value']!r}")
+        return proposal["value"]
+
+
 def course_config(folder: str | Path) -> Config:
     """Everything ``folder/nbgrader_config.py`` configures (an empty config without the file).
 
@@ -70,6 +95,19 @@ def _load(config_file: Path, mtime_ns: int) -> Config:
         raise SettingsError(f"{config_file}: cannot be read: {type(exc).__name__}: {exc}") from exc
 
 
+def _settings(cls: type[Configurable], folder: str | Path) -> Configurable:
+    config = course_config(folder)
+    known = sorted(cls.class_trait_names(config=True))
+    unknown = sorted(set(config.get(cls.__name__, {})) - set(known))
+    if unknown:
+        raise SettingsError(f"{Path(folder) / CONFIG_FILE}: c.{cls.__name__}.{unknown[0]} is not a setting of the kit "
+                            f"(its settings: {known})")
+    try:
+        return cls(config=config)
+    except TraitError as exc:
+        raise SettingsError(f"{Path(folder) / CONFIG_FILE}: {exc}") from None
+
+
 def course_settings(folder: str | Path) -> DeformLab:
     """The kit's settings in ``folder/nbgrader_config.py`` (defaults without the file).
 
@@ -78,13 +116,15 @@ def course_settings(folder: str | Path) -> DeformLab:
     SettingsError
         If a setting has the wrong type or names an unknown setting of the kit.
     """
-    config = course_config(folder)
-    section = config.get("DeformLab", {})
-    unknown = sorted(set(section) - set(DeformLab.class_trait_names(config=True)))
-    if unknown:
-        known = sorted(DeformLab.class_trait_names(config=True))
-        raise SettingsError(f"{Path(folder) / CONFIG_FILE}: c.DeformLab.{unknown[0]} is not a setting of the kit (its settings: {known})")
-    try:
-        return DeformLab(config=config)
-    except TraitError as exc:
-        raise SettingsError(f"{Path(folder) / CONFIG_FILE}: {exc}") from None
+    return _settings(DeformLab, folder)
+
+
+def grading_settings(folder: str | Path) -> Grading:
+    """The grading limits in ``folder/nbgrader_config.py`` (defaults without the file).
+
+    Raises
+    ------
+    SettingsError
+        If a limit has the wrong type, is not positive, or is not a setting of the kit.
+    """
+    return _settings(Grading, folder)
