@@ -142,7 +142,7 @@ def grade_options(args) -> GradeOptions:
 
 
 def _cmd_grade(args) -> int:
-    from grader.pipeline.run import GradeOptions, grade_class
+    from grader.pipeline.run import grade_class
     from grader.paths import course_paths
     from grader.report.class_report import collusion_of_run, write_class_report
     from grader.report.scores import class_summary

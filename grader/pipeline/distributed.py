@@ -284,7 +284,7 @@ def grade_on_dask(
     Parameters
     ----------
     todo : list
-        Planned units (``grader.pipeline.run.PlannedUnit``).
+        Planned units (``grader.pipeline.plan.PlannedUnit``).
     spec_of : callable
         ``unit -> UnitSpec``; called just before the unit is submitted.
     error_of : callable

@@ -1,9 +1,12 @@
 """``deformlab grade``: a class of submissions through the pipeline, in parallel.
 
 sanitize → execute in a sandbox → collect → verify run inside each work unit
-(``grader.pipeline.unit``); this module finds the units, runs them in a process
-pool or on a Dask cluster (``grader.pipeline.distributed``), and records each
-result as it arrives, in this one process (``grader.pipeline.record``).
+(``grader.pipeline.unit``). This module prepares a run (instructor notebooks,
+gradebook, the output folder's lock, the run's seed, what an earlier run into
+the same folder already graded), has the units planned (``grader.pipeline.plan``)
+and graded in a local process pool (``grader.pipeline.local_pool``) or on a Dask
+cluster (``grader.pipeline.distributed``), and records each result as it
+arrives, in this one process (``grader.pipeline.record``).
 """
 
 from __future__ import annotations
@@ -12,15 +15,10 @@ import dataclasses
 
 import fcntl
 import json
-import multiprocessing
 import os
 import secrets
 import sys
 import time
-from collections.abc import Callable, Iterator
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass
 from pathlib import Path
 
 import nbformat
@@ -28,53 +26,13 @@ import nbformat
 from grader.course_pack import default_assignment, pack
 from grader.paths import CoursePaths, course_paths
 from grader.pipeline import record
-from grader.pipeline.sanitize import read_submission_bytes
-from grader.pipeline.submitted import check_submitted, student_folders
+from grader.pipeline.local_pool import grade_in_pool
+from grader.pipeline.options import GradeOptions
+from grader.pipeline.plan import PlannedUnit, plan_units, unit_spec
+from grader.pipeline.submitted import check_submitted
 from grader.pipeline.unit import UnitSpec, grade_unit, load_submission, zero_result
-from grader.pipeline.workers import init_worker
-from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
-from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES, remove_stale_limits
+from grader.sandbox.process_limit import remove_stale_limits
 from grader.sandbox.workspace import remove_stale_workspaces
-
-
-@dataclass
-class GradeOptions:
-    workers: int | None = None
-    timeout: float = 60.0
-    memory_gb: float = 4.0
-    max_processes: int = DEFAULT_MAX_PROCESSES
-    db_url: str | None = None
-    seed: int | None = None
-    assignment: str | None = None  # None: the course's default assignment (c.DeformLab.default_assignment)
-    progress: bool = True
-    autograded: Path | None = None  # where executed notebooks go for formgrader; default: the course's autograded/
-    wall: float = 900.0  # seconds per notebook
-    disk_bytes: int = DEFAULT_FILE_BYTES  # each student's workdir
-    student: str | None = None  # grade only this student again; the others' results are read from OUT as they are
-    scheduler: str | None = None  # a Dask cluster: "tcp://HOST:PORT" or "local:N"; None: a local process pool
-    allow_unsandboxed: bool = False  # Dask workers without bubblewrap grade anyway (they refuse units otherwise)
-
-
-def find_submission(folder: Path, notebook: str) -> tuple[Path | None, list[str]]:
-    """The student's file for ``notebook``, also when renamed (matched by the notebook's own metadata).
-
-    Every candidate is the student's: read without following links, within the
-    notebook size cap, and whatever fails to parse (deep nesting included) is
-    passed over; it never raises for a file's content.
-    """
-    exact = folder / f"{notebook}.ipynb"
-    if exact.is_file() or exact.is_symlink():
-        return exact, []
-    if folder.is_dir() and not folder.is_symlink():
-        for candidate in sorted(folder.glob("*.ipynb")):
-            try:
-                meta = json.loads(read_submission_bytes(candidate)).get("metadata", {})
-                named = (meta.get("deformlab") or {}).get("notebook") if isinstance(meta, dict) else None
-            except Exception:  # noqa: BLE001 - RecursionError, MemoryError, anything: not this notebook
-                continue
-            if named == notebook:
-                return candidate, [f"graded {candidate.name} as {notebook}.ipynb (renamed file)"]
-    return None, []
 
 
 def ensure_sources(paths: CoursePaths, assignment: str) -> list[Path]:
@@ -123,46 +81,6 @@ def _known_students(db_url: str) -> list[str]:
         return [s.id for s in gb.students]
 
 
-@dataclass(frozen=True)
-class PlannedUnit:
-    """One student × notebook as found on this host (``unit_spec`` makes the self-contained ``UnitSpec``)."""
-
-    student_id: str
-    notebook: str
-    submission: Path | None
-    source: Path
-    notes: tuple[str, ...] = ()
-    #: False for a student of the gradebook's roster who has no folder in this run: such a row
-    #: is written to grades.csv but never over what another run recorded in the gradebook.
-    in_folder: bool = True
-
-
-def plan_units(submitted: Path, sources: list[Path], options: GradeOptions, roster: list[str]) -> list[PlannedUnit]:
-    """One unit per student × notebook: students from the folder and from the gradebook's roster.
-
-    A student folder that is a link is not followed (its student gets a row saying so).
-    """
-    assignment = options.assignment or default_assignment()
-    folders = student_folders(submitted, assignment)
-    units = []
-    for sid in sorted(set(folders) | set(roster)):
-        folder = folders.get(sid)
-        for source in sources:
-            notebook = source.stem
-            path = None
-            if folder is None:
-                notes = ["no submission folder for this student"]
-            elif folder.is_symlink():
-                notes = ["the submission folder is a link, which is not followed"]
-            else:
-                try:
-                    path, notes = find_submission(folder / assignment, notebook)
-                except OSError as exc:  # an unreadable folder costs its own student only
-                    notes = [f"cannot read the submission folder: {exc.strerror}"]
-            units.append(PlannedUnit(sid, notebook, path, source, tuple(notes), folder is not None))
-    return units
-
-
 class GradingInProgress(RuntimeError):
     """Another grading run is writing into the same output folder."""
 
@@ -176,27 +94,6 @@ def _lock_out(out: Path):
         handle.close()
         raise GradingInProgress(f"another `deformlab grade` is writing into {out}; wait for it or choose another --out") from None
     return handle
-
-
-def unit_spec(unit: PlannedUnit, seed: int, options: GradeOptions, source_text: str) -> UnitSpec:
-    """The self-contained work unit: the submitted bytes are read here, on the recording host."""
-    content, digest, error = load_submission(unit.submission)
-    return UnitSpec(
-        student_id=unit.student_id,
-        notebook=unit.notebook,
-        submission=content,
-        source=source_text,
-        seed=seed,
-        assignment=options.assignment,
-        timeout=options.timeout,
-        memory_bytes=int(options.memory_gb * 2**30),
-        max_processes=options.max_processes,
-        notes=list(unit.notes),
-        submission_sha256=digest,
-        submission_error=error,
-        wall=options.wall,
-        disk_bytes=options.disk_bytes,
-    )
 
 
 def _run_seed(out: Path, requested: int | None) -> int:
@@ -306,11 +203,6 @@ def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Cours
     def error_of(unit: PlannedUnit, reason: str) -> dict:
         return _grader_error(spec_of(unit), reason)
 
-    if options.assignment is None:
-        options = dataclasses.replace(options, assignment=default_assignment())
-    # planned before anything is built or written: a wrong folder or assignment is refused at once
-    pack(options.assignment)
-    check_submitted(submitted, options.assignment)
     if options.scheduler:
         from grader.pipeline.distributed import grade_on_dask
 
@@ -335,75 +227,6 @@ def _grade_class(submitted: Path, out: Path, options: GradeOptions, paths: Cours
     record.compact_log(out)
     _print_summary(results, out)
     return results
-
-
-def _pool(workers: int) -> ProcessPoolExecutor:
-    # spawn, not fork: a forked child inherits jupyter's event-loop thread as a dead handle and hangs.
-    return ProcessPoolExecutor(max_workers=workers, initializer=init_worker, initargs=(os.getpid(),), mp_context=multiprocessing.get_context("spawn"))
-
-
-def grade_in_pool(
-    todo: list[PlannedUnit],
-    spec_of: Callable[[PlannedUnit], UnitSpec],
-    error_of: Callable[[PlannedUnit, str], dict],
-    workers: int,
-    readonly: list[str],
-    grade: Callable = grade_unit,
-) -> Iterator[tuple[PlannedUnit, dict]]:
-    """Grade ``todo`` in a local process pool; yield ``(unit, result)`` in order of completion.
-
-    At most two units per worker are in flight, so the submitted bytes of a
-    large class are never all in memory. If a grading worker dies (not a
-    kernel: those are handled inside the unit), only a unit the pool held can
-    have killed it: each of those is graded again alone, in a pool of its own,
-    so that a culprit breaks only its own pool and its neighbours keep their grades.
-    """
-    remaining = dict(enumerate(todo))
-    while remaining:
-        queue = list(remaining)
-        suspects: list[int] = []
-        with _pool(workers) as pool:
-            pending: dict = {}
-            while queue or pending:
-                while queue and len(pending) < 2 * workers and not suspects:
-                    try:
-                        pending[pool.submit(grade, spec_of(remaining[queue[0]]), readonly)] = queue[0]
-                    except BrokenProcessPool:
-                        # a worker died since the last wait: what is pending fails below,
-                        # and the rest of the queue goes to the next pool
-                        queue.clear()
-                        break
-                    queue.pop(0)
-                if not pending:
-                    break
-                done, _ = wait(pending, return_when=FIRST_COMPLETED)
-                for future in done:
-                    i = pending.pop(future)
-                    try:
-                        result = future.result()
-                    except BrokenProcessPool:
-                        suspects.append(i)
-                        continue
-                    except Exception as exc:  # noqa: BLE001 - whatever one unit raised, the others are graded
-                        result = error_of(remaining[i], f"grader error: {type(exc).__name__}: {exc}")
-                    yield remaining.pop(i), result
-        for i in suspects:
-            unit = remaining.pop(i)
-            yield unit, _grade_alone(unit, spec_of, error_of, readonly, grade)
-        if suspects:
-            remove_stale_workspaces()  # what the dead worker held (its locks name it: swept at once)
-            remove_stale_limits()
-
-
-def _grade_alone(unit: PlannedUnit, spec_of, error_of, readonly: list[str], grade) -> dict:
-    """Grade one unit in a pool of its own; if that pool breaks too, the unit is the culprit."""
-    with _pool(1) as pool:
-        try:
-            return pool.submit(grade, spec_of(unit), readonly).result()
-        except BrokenProcessPool:
-            return error_of(unit, "the grading process died while checking this notebook's outputs; it scores 0 and your TA has been told")
-        except Exception as exc:  # noqa: BLE001
-            return error_of(unit, f"grader error: {type(exc).__name__}: {exc}")
 
 
 def _grader_error(spec: UnitSpec, reason: str) -> dict:

@@ -319,7 +319,7 @@ def class_collusion(results: list[dict], submitted: Path, sources: list[Path], a
     max_code_bytes : int or None, optional
         Each student's own code per notebook is cut there (``MAX_CODE_BYTES``); the cuts are in the evidence.
     """
-    from grader.pipeline.run import find_submission
+    from grader.pipeline.plan import find_submission
 
     evidence = CollusionEvidence()
     for source_path in sources:

@@ -180,7 +180,8 @@ def test_the_class_was_graded_with_every_attacker_scored_as_an_honest_student(co
 def test_opening_an_attackers_submission_in_formgrader_runs_none_of_its_scripts(course, formgrader, browser, workdir,
                                                                                 report_summary, monkeypatch):
     import grader.pipeline.unit as unit
-    from grader.pipeline.run import GradeOptions, plan_units, unit_spec
+    from grader.pipeline.plan import plan_units, unit_spec
+    from grader.pipeline.run import GradeOptions
 
     started = time.monotonic()
     log_in(browser, formgrader)

@@ -12,7 +12,7 @@ import nbformat
 import pytest
 
 from grader.paths import CoursePaths
-from grader.pipeline import run as run_module
+from grader.pipeline import local_pool
 from grader.pipeline.run import GradeOptions, GradingInProgress, grade_class
 from tests.grader.standin_units import CULPRIT, kills_its_worker_for_the_culprit
 
@@ -85,8 +85,8 @@ def test_a_pool_that_breaks_between_two_submissions_loses_no_unit(monkeypatch):
     # The race behind a rare "BrokenProcessPool" escaping grade_class: a worker died after
     # the last wait returned only finished units, and the next submit found the pool broken.
     pools = iter([_PoolBrokenAfter(3), _PoolBrokenAfter(None)])
-    monkeypatch.setattr(run_module, "_pool", lambda workers: next(pools))
+    monkeypatch.setattr(local_pool, "_pool", lambda workers: next(pools))
     units = [f"unit{k}" for k in range(7)]
-    graded = list(run_module.grade_in_pool(units, lambda unit: unit, lambda unit, reason: {"error": reason}, 2, [], lambda spec, readonly: {"graded": spec}))
+    graded = list(local_pool.grade_in_pool(units, lambda unit: unit, lambda unit, reason: {"error": reason}, 2, [], lambda spec, readonly: {"graded": spec}))
     assert sorted(unit for unit, _ in graded) == units
     assert all(result == {"graded": unit} for unit, result in graded)

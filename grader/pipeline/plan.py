@@ -1,0 +1,103 @@
+"""Planning a run: one unit per student × notebook, found on this host (renamed files included).
+
+A planned unit names host paths; :func:`unit_spec` reads the submitted bytes and
+makes the self-contained :class:`grader.pipeline.unit.UnitSpec` a worker grades.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+from grader.course_pack import default_assignment
+from grader.pipeline.options import GradeOptions
+from grader.pipeline.sanitize import read_submission_bytes
+from grader.pipeline.submitted import student_folders
+from grader.pipeline.unit import UnitSpec, load_submission
+
+__all__ = ["PlannedUnit", "find_submission", "plan_units", "unit_spec"]
+
+
+def find_submission(folder: Path, notebook: str) -> tuple[Path | None, list[str]]:
+    """The student's file for ``notebook``, also when renamed (matched by the notebook's own metadata).
+
+    Every candidate is the student's: read without following links, within the
+    notebook size cap, and whatever fails to parse (deep nesting included) is
+    passed over; it never raises for a file's content.
+    """
+    exact = folder / f"{notebook}.ipynb"
+    if exact.is_file() or exact.is_symlink():
+        return exact, []
+    if folder.is_dir() and not folder.is_symlink():
+        for candidate in sorted(folder.glob("*.ipynb")):
+            try:
+                meta = json.loads(read_submission_bytes(candidate)).get("metadata", {})
+                named = (meta.get("deformlab") or {}).get("notebook") if isinstance(meta, dict) else None
+            except Exception:  # noqa: BLE001 - RecursionError, MemoryError, anything: not this notebook
+                continue
+            if named == notebook:
+                return candidate, [f"graded {candidate.name} as {notebook}.ipynb (renamed file)"]
+    return None, []
+
+
+@dataclass(frozen=True)
+class PlannedUnit:
+    """One student × notebook as found on this host (``unit_spec`` makes the self-contained ``UnitSpec``)."""
+
+    student_id: str
+    notebook: str
+    submission: Path | None
+    source: Path
+    notes: tuple[str, ...] = ()
+    #: False for a student of the gradebook's roster who has no folder in this run: such a row
+    #: is written to grades.csv but never over what another run recorded in the gradebook.
+    in_folder: bool = True
+
+
+def plan_units(submitted: Path, sources: list[Path], options: GradeOptions, roster: list[str]) -> list[PlannedUnit]:
+    """One unit per student × notebook: students from the folder and from the gradebook's roster.
+
+    A student folder that is a link is not followed (its student gets a row saying so).
+    """
+    assignment = options.assignment or default_assignment()
+    folders = student_folders(submitted, assignment)
+    units = []
+    for sid in sorted(set(folders) | set(roster)):
+        folder = folders.get(sid)
+        for source in sources:
+            notebook = source.stem
+            path = None
+            if folder is None:
+                notes = ["no submission folder for this student"]
+            elif folder.is_symlink():
+                notes = ["the submission folder is a link, which is not followed"]
+            else:
+                try:
+                    path, notes = find_submission(folder / assignment, notebook)
+                except OSError as exc:  # an unreadable folder costs its own student only
+                    notes = [f"cannot read the submission folder: {exc.strerror}"]
+            units.append(PlannedUnit(sid, notebook, path, source, tuple(notes), folder is not None))
+    return units
+
+
+
+def unit_spec(unit: PlannedUnit, seed: int, options: GradeOptions, source_text: str) -> UnitSpec:
+    """The self-contained work unit: the submitted bytes are read here, on the recording host."""
+    content, digest, error = load_submission(unit.submission)
+    return UnitSpec(
+        student_id=unit.student_id,
+        notebook=unit.notebook,
+        submission=content,
+        source=source_text,
+        seed=seed,
+        assignment=options.assignment,
+        timeout=options.timeout,
+        memory_bytes=int(options.memory_gb * 2**30),
+        max_processes=options.max_processes,
+        notes=list(unit.notes),
+        submission_sha256=digest,
+        submission_error=error,
+        wall=options.wall,
+        disk_bytes=options.disk_bytes,
+    )
