@@ -12,7 +12,7 @@ from pathlib import Path
 
 from grader.course_pack import default_assignment
 from grader.pipeline.options import GradeOptions
-from grader.pipeline.sanitize import read_submission_bytes
+from grader.pipeline.read_submission import read_submission_bytes
 from grader.pipeline.submitted import student_folders
 from grader.pipeline.unit import UnitSpec, load_submission
 

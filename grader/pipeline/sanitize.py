@@ -1,4 +1,4 @@
-"""Step 1: read a submitted notebook and repair it against the source notebook.
+"""Step 2: repair a submitted notebook (read by :mod:`grader.pipeline.read_submission`) against the source notebook.
 
 Tests and provided cells are read-only: whatever a student did to them (edit,
 delete, duplicate) they are restored from the source, as nbgrader's checksums
@@ -14,25 +14,13 @@ from __future__ import annotations
 
 import ast
 import copy
-import errno
-import json
-import os
 import re
-import stat
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import nbformat
 
 from grader.grade_ids import grade_id, tested_function
-
-
-#: A submission larger than this is not read at all.
-MAX_NOTEBOOK_BYTES = 64 * 2**20
-
-
-class SubmissionError(ValueError):
-    """The file cannot be graded as this notebook; the message is the row's reason."""
+from grader.pipeline.read_submission import SubmissionError
 
 
 @dataclass
@@ -66,31 +54,6 @@ def _is_locked(cell) -> bool:
     return bool(meta.get("locked")) and not meta.get("solution")
 
 
-def read_submission_bytes(path: Path) -> bytes:
-    """The bytes of a submitted file: a regular file within the size cap, never read through a link.
-
-    Raises
-    ------
-    SubmissionError
-        If the file is missing, a link, not a regular file, or too large.
-    """
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
-    except OSError as exc:
-        what = "the submission is a link, which is not graded" if exc.errno == errno.ELOOP else f"cannot read the submission: {exc.strerror}"
-        raise SubmissionError(what) from None
-    with os.fdopen(fd, "rb") as fh:
-        info = os.fstat(fh.fileno())
-        if not stat.S_ISREG(info.st_mode):
-            raise SubmissionError("the submission is not a regular file")
-        if info.st_size > MAX_NOTEBOOK_BYTES:
-            raise SubmissionError(f"the notebook is {info.st_size / 2**20:.0f} MiB, over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
-        data = fh.read(info.st_size + 1)  # not the cap + 1: read() allocates what it is asked for
-    if len(data) > MAX_NOTEBOOK_BYTES:
-        raise SubmissionError(f"the notebook is over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
-    return data
-
-
 def _released_source(cell) -> str:
     """The text a student received for a read-only cell: nbgrader's release clears its hidden tests."""
     from nbgrader.preprocessors import ClearHiddenTests
@@ -98,45 +61,6 @@ def _released_source(cell) -> str:
     released = copy.deepcopy(cell)
     ClearHiddenTests()._remove_hidden_test_region(released)
     return released.source
-
-
-def read_submission(path: Path) -> nbformat.NotebookNode:
-    """Read a submitted file as a v4 notebook (:func:`read_submission_bytes`, then :func:`parse_submission`).
-
-    Raises
-    ------
-    SubmissionError
-        If the file is unreadable, too large, nested too deeply, or not a notebook.
-    """
-    return parse_submission(read_submission_bytes(Path(path)))
-
-
-def parse_submission(data: bytes) -> nbformat.NotebookNode:
-    """Parse a submitted file's bytes as a v4 notebook.
-
-    Raises
-    ------
-    SubmissionError
-        If the bytes are too many, nested too deeply, or not a notebook.
-    """
-    if len(data) > MAX_NOTEBOOK_BYTES:
-        raise SubmissionError(f"the notebook is over the {MAX_NOTEBOOK_BYTES // 2**20} MiB limit")
-    try:
-        raw = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise SubmissionError(f"not a Jupyter notebook (not valid JSON: {exc})") from None
-    except RecursionError:
-        raise SubmissionError("not a Jupyter notebook (its JSON is nested too deeply)") from None
-    if not isinstance(raw, dict) or not isinstance(raw.get("cells"), list):
-        raise SubmissionError("not a Jupyter notebook (no list of cells)")
-    try:
-        nb = nbformat.reads(json.dumps(raw), as_version=4)
-    except Exception as exc:  # noqa: BLE001 - nbformat raises many kinds
-        raise SubmissionError(f"not a readable Jupyter notebook: {exc}") from None
-    for cell in nb.cells:
-        if not isinstance(cell.get("source"), str) or cell.get("cell_type") not in ("code", "markdown", "raw"):
-            raise SubmissionError("not a readable Jupyter notebook (malformed cell)")
-    return nb
 
 
 def graded_functions(source: nbformat.NotebookNode) -> frozenset[str]:

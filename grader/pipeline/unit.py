@@ -30,7 +30,8 @@ from grader.pipeline.execute import Execution, ExecuteOptions, execute, prestart
 from grader.pipeline.feedback import feedback_html
 from grader.pipeline.guard import GraderLimitExceeded, grader_limits, peak_rss_bytes, reset_peak_rss
 from grader.pipeline.neutralize import neutralize
-from grader.pipeline.sanitize import Sanitized, SubmissionError, parse_submission, read_submission_bytes, sanitize
+from grader.pipeline.sanitize import Sanitized, sanitize
+from grader.pipeline.read_submission import SubmissionError, parse_submission, read_submission_bytes
 from grader.pipeline.verify import graded_cells, hidden_cases, recording, verify
 from grader.sandbox.bwrap import DEFAULT_FILE_BYTES
 from grader.report.digest import output_digest

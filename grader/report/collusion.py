@@ -42,7 +42,7 @@ import nbformat
 import numpy as np
 
 from grader.build.authored import BEGIN_SOLUTION, END_SOLUTION
-from grader.pipeline.sanitize import SubmissionError, read_submission
+from grader.pipeline.read_submission import SubmissionError, read_submission
 
 #: copydetect's noise threshold (tokens) and winnowing window, its defaults for short code.
 K, WINDOW = 15, 4

@@ -5,7 +5,8 @@ import copy
 import nbformat
 import pytest
 
-from grader.pipeline.sanitize import SubmissionError, graded_functions, grading_plan, read_submission, sanitize
+from grader.pipeline.sanitize import graded_functions, grading_plan, sanitize
+from grader.pipeline.read_submission import SubmissionError, read_submission
 
 
 @pytest.fixture(scope="module")

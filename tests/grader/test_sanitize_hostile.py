@@ -8,7 +8,8 @@ import nbformat
 import pytest
 
 from tests.corpus import student_notebook
-from grader.pipeline.sanitize import SubmissionError, read_submission, sanitize
+from grader.pipeline.sanitize import sanitize
+from grader.pipeline.read_submission import SubmissionError, read_submission
 
 NOTEBOOK = "01_shape_matching"
 

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 ASSIGNMENT = "deformation"
-from grader.pipeline.sanitize import MAX_NOTEBOOK_BYTES
+from grader.pipeline.read_submission import MAX_NOTEBOOK_BYTES
 from grader.report.class_report import CSV_TABLES, collusion_of_run, load_results, write_class_report
 from grader.report.collusion import MAX_CODE_BYTES, CollusionCaps, cap_code, limited_collusion
 
