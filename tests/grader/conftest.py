@@ -31,10 +31,13 @@ def collect_kernel_leftovers():
 
     CPython 3.11 raises "AST constructor recursion depth mismatch" when such
     finalizers run while the parser builds its tree (pytest parses lazily imported
-    modules, the grader parses cells).
+    modules, the grader parses cells). What survives is frozen, so that the next
+    collection walks only what the next test made: a full walk of the heap (libigl,
+    the reference's cached outputs) took 0.15 s after each of a thousand tests.
     """
     yield
     gc.collect()
+    gc.freeze()
 
 
 @pytest.fixture(scope="session")
