@@ -23,6 +23,7 @@ from pathlib import Path
 
 import nbformat
 
+from grader.course_pack import pack
 from grader.harness.fixtures import write_fixtures
 from grader.paths import course_paths
 from grader.harness.outputs import OutputError, read_outputs
@@ -180,7 +181,6 @@ class Unit:
     tests: list[dict] = field(default_factory=list)
     verified: list[tuple] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
-    feedback: str | None = None
     result: dict | None = None
 
     @functools.cached_property
@@ -336,8 +336,6 @@ def unit_steps(assignment: str | None) -> tuple[tuple[Step, ...], tuple[Step, ..
     A course pack's steps (``[grading] steps`` in its assignment.toml) run after verification,
     before the feedback page: they see every verdict and may add notes for the student.
     """
-    from grader.course_pack import pack
-
     return ON_HOST, IN_SANDBOX + pack(assignment).grading_steps() + FINISH
 
 
