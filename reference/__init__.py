@@ -8,6 +8,7 @@ never visible inside the grading sandbox.
 from reference.meshes import boundary_loop_count, edges, euler_characteristic, genus
 from reference.shape_matching import centroid, covariance_matrix, optimal_orthogonal, orthogonal_align
 from reference.sign_correction import optimal_rotation, rigid_align
+from reference.k_harmonic import k_harmonic_operator, k_harmonic_precompute, k_harmonic_solve
 from reference.arap import (
     arap_covariances,
     arap_energy,

@@ -95,6 +95,10 @@ OWN: dict[str, tuple[str, ...]] = {
     # 02 sign correction
     "optimal_rotation": _ROTATION_FIT,
     "rigid_align": (),
+    # 02b k-harmonic deformation (the notebook builds L and M with igl.cotmatrix and igl.massmatrix: allowed)
+    "k_harmonic_operator": ("igl.harmonic_integrated_from_laplacian_and_mass",),
+    "k_harmonic_precompute": ("igl.harmonic",) + _FIXED_SOLVE,
+    "k_harmonic_solve": ("igl.harmonic",) + _FIXED_SOLVE,
     # 03 ARAP
     "cotangent_weights": _COT,
     "cotangent_laplacian": _COT,
@@ -148,6 +152,9 @@ BUILDS_ON: dict[str, tuple[str, ...]] = {
     "orthogonal_align": ("centroid", "covariance_matrix", "optimal_orthogonal"),
     "optimal_rotation": (),
     "rigid_align": ("centroid", "covariance_matrix", "optimal_rotation"),
+    "k_harmonic_operator": (),
+    "k_harmonic_precompute": (),
+    "k_harmonic_solve": ("k_harmonic_precompute",),
     "cotangent_weights": (),
     "cotangent_laplacian": ("cotangent_weights",),
     "arap_covariances": ("cotangent_weights",),

@@ -26,15 +26,16 @@ def test_the_pack_grades_exactly_the_functions_of_the_three_contract_files():
     assert _table_names(CONTRACT_MD) == set(COURSE.function_names) - BONUS_NAMES - _table_names(LECTURE_CONTRACT_MD)
 
 
-def test_the_bonus_stage_grades_exactly_the_functions_of_bonus_contract_md():
-    assert _table_names(BONUS_CONTRACT_MD) == BONUS_NAMES
-    assert [s.notebook for s in COURSE.stages if s.bonus] == ["06_fast"]
+def test_the_bonus_stages_grade_the_functions_of_bonus_contract_md_and_the_tetrahedra_of_lecture_contract_md():
+    assert [s.notebook for s in COURSE.stages if s.bonus] == ["06_fast", "07_tetrahedra"]
+    assert _table_names(BONUS_CONTRACT_MD) == set(COURSE.stage_functions("06_fast"))
+    assert BONUS_NAMES == set(COURSE.stage_functions("06_fast")) | set(COURSE.stage_functions("07_tetrahedra"))
 
 
-def test_lecture_contract_functions_are_graded_by_existing_stages_and_none_is_bonus():
+def test_lecture_contract_functions_are_graded_by_existing_stages_and_only_the_tetrahedra_are_bonus():
     lecture = _table_names(LECTURE_CONTRACT_MD)
     assert lecture <= COURSE.function_names
-    assert not lecture & BONUS_NAMES
+    assert lecture & BONUS_NAMES == set(COURSE.stage_functions("07_tetrahedra"))
 
 
 def test_every_graded_function_is_exported_by_the_reference_package():

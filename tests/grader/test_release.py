@@ -6,6 +6,8 @@ from pathlib import Path
 import nbformat
 import pytest
 
+from grader.course_pack import pack
+
 from grader.build.authored import solution_body
 from grader.build.release import (
     ReleaseReport,
@@ -148,9 +150,9 @@ def test_the_bundles_readme_names_every_notebook_its_files_are_readable_and_its_
         requirements = z.read("deformation/requirements.txt").decode()
         readme = z.read("deformation/README.md").decode()
     assert {name for name, mode in modes.items() if mode & 0o044 != 0o044} == set(), "every file readable by group and others"
-    stages = sorted(p.stem for p in (ROOT / "notebooks" / "deformation").glob("[0-9][0-9]_*.py"))
+    stages = pack("deformation").stage_names
     first = readme.split("\n\n")[1]
-    assert first.split()[0] == "Eight" and len(stages) == 8 and all(f"`{s}`" in first for s in stages)
+    assert first.split()[0] == "Nine" and len(stages) == 9 and all(f"`{s}`" in first for s in stages)
     pins = dict(line.split("==") for line in (ROOT / "constraints.txt").read_text().splitlines()
                 if "==" in line and not line.startswith("#"))
     wanted = dict(line.split("==") for line in requirements.splitlines() if not line.startswith("#"))
