@@ -13,7 +13,7 @@ import numpy as np
 from grader.pipeline.feedback import pair_figure, picture
 from grader.pipeline.feedback_view import deformation_view, weights_view
 
-PICTURED = ("arap_solve", "laplacian_editing", "bbw", "unconstrained_biharmonic_weights")
+PICTURED = ("k_harmonic_solve", "arap_solve", "laplacian_editing", "bbw", "unconstrained_biharmonic_weights")
 
 
 def pictures(function: str, case, value, expected) -> list[dict]:
@@ -35,6 +35,8 @@ def pictures(function: str, case, value, expected) -> list[dict]:
     list of dict
         ``{"caption", "alt", "png"}`` each, ``"view"`` on the first; empty when the output cannot be drawn.
     """
+    if function == "k_harmonic_solve":
+        return _k_harmonic_solve(case, value, expected)
     args = case.steps[0].args
     V, F = np.asarray(args[0], float), np.asarray(args[1], np.int64)
     if function == "arap_solve":
@@ -65,6 +67,11 @@ def view(function: str, case, value, expected) -> dict | None:
 
     ``value`` is the student's output, validated by the view; None for a function without a view.
     """
+    if function == "k_harmonic_solve":
+        V, F = case.context["mesh"]
+        got = _displacements(value, V.shape)
+        handles = np.asarray(case.steps[0].args[1], np.int64)
+        return deformation_view(V, F, handles, None if got is None else V + got, V + np.asarray(expected, float))
     args = case.steps[0].args
     V, F = np.asarray(args[0], float), np.asarray(args[1], np.int64)
     if function == "arap_solve":
@@ -77,6 +84,30 @@ def view(function: str, case, value, expected) -> dict | None:
         groups = [b[np.argmax(bc, axis=1) == j] for j in range(bc.shape[1])]
         return weights_view(V, F, groups, value, np.asarray(expected, float))
     return None
+
+
+def _displacements(value, shape: tuple) -> np.ndarray | None:
+    """The student's displacements as a finite float array of ``shape``, else None (the output is hostile)."""
+    try:
+        D = np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        return None
+    return D if D.shape == shape and np.all(np.isfinite(D)) else None
+
+
+def _k_harmonic_solve(case, value, expected) -> list[dict]:
+    """The student's deformed mesh ``V + D`` beside the reference's (the mesh is kept in the case's context)."""
+    V, F = case.context["mesh"]
+    D, D_ref = _displacements(value, V.shape), np.asarray(expected, float)
+    if D is None:
+        return []
+    pics = [picture(
+        f"k_harmonic_solve, {case.label}: your deformed mesh V + D (left) beside the reference's (right).",
+        f"Two meshes side by side: the rest mesh moved by your displacements and by the reference's, on hidden case {case.label}.",
+        pair_figure(V + D, V + D_ref, F, titles=("your V + D", "reference")),
+    )]
+    pics[0]["view"] = view("k_harmonic_solve", case, value, expected)
+    return pics
 
 
 def _arap_solve(case, V: np.ndarray, F: np.ndarray, value, expected) -> list[dict]:

@@ -74,14 +74,14 @@ def k_harmonic_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, n
     return scenes
 
 
-def _solve_cases(rng: np.random.Generator) -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]]:
-    """``(label, V, Q_k, handles, D_h, k)`` for k = 1 and 2 on every scene, and k = 3 on one."""
+def _solve_cases(rng: np.random.Generator) -> list[tuple[str, tuple, np.ndarray, np.ndarray, np.ndarray, int]]:
+    """``(label, (V, F), Q_k, handles, D_h, k)`` for k = 1 and 2 on every scene, and k = 3 on one."""
     out = []
     for label, (V, F, handles, D) in k_harmonic_scenes(rng).items():
         L, M = _operators(V, F)
         for k in (1, 2) if "single-vertex" not in label else (2, 3):
             Q = reference("k_harmonic_operator")(L, M, k).toarray()
-            out.append((f"{label}, k = {k}", V, Q, handles, D, k))
+            out.append((f"{label}, k = {k}", (V, F), Q, handles, D, k))
     return out
 
 
@@ -153,12 +153,12 @@ class KHarmonicPrecomputeChecks(FunctionChecks):
 
     def cases(self, rng):
         cases = []
-        for label, V, Q, handles, D_h, _ in _solve_cases(rng)[::2]:
+        for label, _, Q, handles, D_h, _ in _solve_cases(rng)[::2]:
             D2 = rng.normal(0.0, 0.3, D_h.shape)
             steps = [Step("k_harmonic_precompute", (Q, handles)), Step("k_harmonic_solve", (Ref(0), D_h)),
                      Step("k_harmonic_solve", (Ref(0), D2))]
             cases.append(Case(f"{label}: two solves with one precomputation", steps, {"D_h": D2}))
-        _, V, Q, handles, _, _ = _solve_cases(rng)[0]
+        _, _, Q, handles, _, _ = _solve_cases(rng)[0]
         for what, bad in (("no handle", np.zeros(0, dtype=np.int64)), ("a handle repeated", np.r_[handles[:3], handles[:1]]),
                           ("a handle out of range", np.r_[handles[:3], len(Q)])):
             cases.append(raises(f"the 2D strip with {what}", [Step("k_harmonic_precompute", (Q, bad))]))
@@ -175,9 +175,10 @@ class KHarmonicSolveChecks(FunctionChecks):
     description = "D with the handles' displacements exactly and (Q D)[free] = 0, for k = 1, 2, 3, in 2D and 3D, two components"
 
     def cases(self, rng):
+        # the mesh stays here (the kernel gets Q): the feedback picture draws V + D on it
         return [
-            Case(label, [Step("k_harmonic_precompute", (Q, handles)), Step("k_harmonic_solve", (Ref(0), D_h))])
-            for label, V, Q, handles, D_h, _ in _solve_cases(rng)
+            Case(label, [Step("k_harmonic_precompute", (Q, handles)), Step("k_harmonic_solve", (Ref(0), D_h))], {"mesh": mesh})
+            for label, mesh, Q, handles, D_h, _ in _solve_cases(rng)
         ]
 
     def verify(self, case, got, expected):
