@@ -39,6 +39,7 @@ import jupytext
 import nbformat
 
 from grader.build.authored import read_authored, referenced_names, solution_body
+from grader.build.quoted_measurements import unprinted_quotes
 from grader.build.source_notebook import HIDDEN_MARKERS, authored_notebooks, build_sources
 from grader.course_pack import Assignment, pack, packs
 from grader.gradebook import generate_assignment
@@ -285,10 +286,12 @@ def check_source_execution(sources: list[Path], report: ReleaseReport, paths: Co
     env = {"DEFORMLAB_NO_PLOTS": "1", "DEFORMLAB_ROOT": str(paths.root)}
     for path in sources:
         started = time.monotonic()
-        errors = _errors(_execute(path, env))
+        nb = _execute(path, env)
         report.timings[f"source {path.stem}"] = time.monotonic() - started
-        for i, why in errors.items():
+        for i, why in _errors(nb).items():
             report.problems.append(f"source {path.name}, cell {i + 1} fails with the teaching solutions: {why}")
+        # the prose's measured numbers, as this run of the experiments printed them
+        report.problems += [f"source {path.name}: {why}" for why in unprinted_quotes(nb)]
 
 
 def check_release_execution(released: list[Path], report: ReleaseReport, course: Assignment) -> None:

@@ -334,18 +334,18 @@ which = np.clip(np.searchsorted(slices, V[:, 0]) - 1, 0, len(centres) - 1)
 for k, D in solutions.items():
     profile = np.bincount(which, weights=D[:, 2], minlength=len(centres)) / np.bincount(which, minlength=len(centres))
     slope = np.diff(profile) / np.diff(centres)
-    print(f"k = {k}: lift at x = 1, 2, 3: {profile[9]:.3f}, {profile[19]:.3f}, {profile[29]:.3f}; "
+    print(f"k = {k}: lift at x = 1, 2, 3: {profile[9]:.2f}, {profile[19]:.2f}, {profile[29]:.2f}; "
           f"slope next to the left end {slope[0] / 0.25:.2f} x the average, next to the right end {slope[-1] / 0.25:.2f} x")
 plotting.show_meshes([(V + solutions[1], F, solutions[1][:, 2]), (V + solutions[2], F, solutions[2][:, 2])],
                      titles=["k = 1 (harmonic): lift", "k = 2 (biharmonic): lift"], label="lift (z displacement)", clim=(0.0, 1.0))
 
 # %% [markdown]
 # Harmonic displacements spread like heat along a rod: the lift grows almost
-# linearly (0.24, 0.49, 0.74 at a quarter, half and three quarters of the way),
-# and next to each end it is even steeper than on average (1.48 times the
+# linearly (<span class="measured">0.24</span>, <span class="measured">0.49</span>, <span class="measured">0.74</span> at a quarter, half and three quarters of the way),
+# and next to each end it is even steeper than on average (<span class="measured">1.48</span> times the
 # average slope): the bar **kinks** where it leaves the handles. The biharmonic
 # energy also penalizes changes of slope, so the bar leaves each end almost flat
-# (0.26 times the average slope, measured over the first slice) and bends
+# (<span class="measured">0.26</span> times the average slope, measured over the first slice) and bends
 # smoothly, like an elastic beam clamped at both ends. That is why editing tools use $k = 2$ (or 3, which also matches the
 # curvature at the handles).
 #
@@ -420,13 +420,13 @@ plotting.show_meshes([(biharmonic, F, igl.doublearea(biharmonic, F) / area_rest)
 # and (1 − w) I + w R is not a rotation: for w = ½ and a 90° turn it is a
 # rotation by 45° scaled by cos 45° ≈ 0.71 in the plane of the bend. So the
 # middle of the bar turns only halfway and shrinks in the plane of the bend:
-# triangles on the inside of the bend are crushed (area down to × 0.00, 1 %
-# below × 0.13), those on the outside stretched (up to × 1.90), and the centre
-# line is 3.76 long instead of 3.96. k = 3 changes the weights but not the
+# triangles on the inside of the bend are crushed (area down to × <span class="measured">0.00</span>, 1 %
+# below × <span class="measured">0.13</span>), those on the outside stretched (up to × <span class="measured">1.90</span>), and the centre
+# line is <span class="measured">3.76</span> long instead of <span class="measured">3.96</span>. k = 3 changes the weights but not the
 # linearity, and neither does refinement: every linear method reproduces
 # translations of the handles and no rotations. ARAP estimates a rotation R_i
 # for every cell from the current pose (the local step) and asks the edges to be
 # rotated copies of the rest edges, so the bar turns along its length and its
-# triangles keep their size (× 0.83 to × 1.19, the length 4.01). That is a
-# nonlinear problem: the price is the alternation of stage 03, here 1250
+# triangles keep their size (× <span class="measured">0.83</span> to × <span class="measured">1.19</span>, the length <span class="measured">4.01</span>). That is a
+# nonlinear problem: the price is the alternation of stage 03, here <span class="measured">1250</span>
 # iterations from the biharmonic pose to convergence.

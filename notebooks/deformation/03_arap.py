@@ -1234,16 +1234,16 @@ plotting.show_meshes([(one_step, Fc), (six_steps, Fc)], titles=["180° in one st
 # %% [markdown]
 # Read at 200 iterations, the one-step run looks as if its middle hardly
 # turned; it has not arrived, though: its energy is still falling. Run to
-# convergence, it settles on the **other** twist: the middle turns by about
-# −81°, close to half of −180°, and pinches to under half its size (× 0.475),
+# convergence, it settles on the **other** twist: the middle turns by
+# <span class="measured">−81.2</span>°, close to half of −180°, and pinches to under half its size (× <span class="measured">0.475</span>),
 # much like the candy wrapper of stage 05. Nothing told the solver which way to
 # turn, and the first iterations happened to break the tie the wrong way. In six
-# steps the middle turns the intended way, to +90°, half the twist, as a twisted
-# bar should, and keeps about three quarters of its size (× 0.73).
+# steps the middle turns the intended way, to <span class="measured">+90.0</span>°, half the twist, as a twisted
+# bar should, and keeps about three quarters of its size (× <span class="measured">0.732</span>).
 #
 # Both are stationary (the printed changes over the last 50 iterations), so
 # they are two different local minima, and the one-step result has the *lower*
-# energy (2.703 against 3.625): the energy only sees the surface, nothing in it
+# energy (<span class="measured">2.7027</span> against <span class="measured">3.6250</span>): the energy only sees the surface, nothing in it
 # protects the volume inside the bar, and pinching the neck is cheaper than
 # keeping it round. A lower energy is not a better answer to what the user
 # asked. Large rotations must be reached in steps, each starting from the last.
