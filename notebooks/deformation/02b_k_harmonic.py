@@ -428,5 +428,5 @@ plotting.show_meshes([(biharmonic, F, igl.doublearea(biharmonic, F) / area_rest)
 # for every cell from the current pose (the local step) and asks the edges to be
 # rotated copies of the rest edges, so the bar turns along its length and its
 # triangles keep their size (× <span class="measured">0.83</span> to × <span class="measured">1.19</span>, the length <span class="measured">4.01</span>). That is a
-# nonlinear problem: the price is the alternation of stage 03, here <span class="measured">1250</span>
-# iterations from the biharmonic pose to convergence.
+# nonlinear problem: the price is the alternation of stage 03, here more than a
+# thousand iterations from the biharmonic pose to convergence (the cell prints how many).

@@ -853,12 +853,37 @@ fixed = np.array([0, 1, 2])
 posed = bone_transforms([V[r].mean(axis=0) for r in (head, left_foot, right_foot)], [0.6, 0.0, 0.0], [-1, -1, -1])
 posed[0, :, 2] += [-0.6, -0.25]
 
+
+
+def fast_to_convergence(data, fixed_transforms, chunk=50, limit=5000):
+    """``fast_solve`` in runs of ``chunk`` iterations until the energy drops by less than 1e-10 of itself over a run."""
+    T, energies = fast_solve(data, fixed_transforms, iterations=chunk)
+    history = list(energies)
+    while history[-chunk - 1 if len(history) > chunk else 0] - history[-1] > 1e-10 * abs(history[-1]) and len(history) < limit:
+        T, energies = fast_solve(data, fixed_transforms, T0=T, iterations=chunk)
+        history += list(energies)
+    return T, np.array(history)
+
+
+def arap_to_convergence(data, targets, U, chunk=50, limit=20000):
+    """libigl's ARAP in runs of ``chunk`` iterations until no vertex moves by more than 1e-9 of the size over a run."""
+    data.max_iter = chunk
+    size, iterations = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0))), 0
+    while iterations < limit:
+        previous, U = U, igl.arap_solve(targets, data, U)
+        iterations += chunk
+        if np.abs(U - previous).max() <= 1e-9 * size:
+            break
+    return U, iterations
+
+
 start = time.perf_counter()
 data = fast_precompute(V, F, W, rotation_clusters(W, 20), fixed)
 fast_setup = time.perf_counter() - start
 start = time.perf_counter()
 T, energies = fast_solve(data, posed, iterations=50)
-fast_iteration = (time.perf_counter() - start) / 50
+fast_iteration = (time.perf_counter() - start) / 50  # timed on the first 50 iterations
+T, energies = fast_to_convergence(data, posed)
 U_fast = lbs_matrix(V, W) @ T.transpose(0, 2, 1).reshape(-1, 2)
 
 constrained = np.concatenate([head, left_foot, right_foot])
@@ -872,6 +897,8 @@ arap_setup = time.perf_counter() - start
 start = time.perf_counter()
 U_arap = igl.arap_solve(targets, arap, V.copy())
 arap_iteration = (time.perf_counter() - start) / 50
+U_arap, arap_iterations = arap_to_convergence(arap, targets, U_arap)
+arap_iterations += 50
 
 
 def arap_energy_of(U):
@@ -895,7 +922,9 @@ E_fast, E_arap = arap_energy_of(U_fast), arap_energy_of(U_arap)
 print(f"FAST: 20 clusters, setup {1e3 * fast_setup:.1f} ms, {1e6 * fast_iteration:.0f} µs per iteration")
 print(f"ARAP: setup {1e3 * arap_setup:.1f} ms, {1e3 * arap_iteration:.2f} ms per iteration: "
       f"FAST is {arap_iteration / fast_iteration:.0f}× faster per iteration")
-print(f"ARAP energy of the result: FAST {E_fast:.4g}, full ARAP {E_arap:.4g} (ratio {E_fast / E_arap:.2f})")
+print(f"converged: FAST after {len(energies)} iterations (the energy fell by less than 1e-10 of itself over the last 50), "
+      f"ARAP after {arap_iterations} (no vertex moved by more than 1e-9 of the size over the last 50)")
+print(f"ARAP energy of the converged results: FAST {E_fast:.4g}, full ARAP {E_arap:.4g} (ratio {E_fast / E_arap:.2f})")
 plotting.show_meshes([(V, F), (U_fast, F), (U_arap, F)], titles=["rest", "FAST (5 handles, 20 clusters)", "full ARAP"])
 plotting.show_energy(energies, title="FAST energy per iteration")
 
@@ -924,11 +953,17 @@ plotting.show_energy(energies, title="FAST energy per iteration")
 
 # %%
 for k in (1, 5, 20, 80):
-    T_k, _ = fast_solve(fast_precompute(V, F, W, rotation_clusters(W, k), fixed), posed, iterations=50)
+    T_k, _ = fast_to_convergence(fast_precompute(V, F, W, rotation_clusters(W, k), fixed), posed)
     U_k = lbs_matrix(V, W) @ T_k.transpose(0, 2, 1).reshape(-1, 2)
     print(f"{k:3d} clusters: ARAP energy {arap_energy_of(U_k):.4g} ({arap_energy_of(U_k) / E_arap:.2f}× full ARAP)")
 
 # %% [markdown]
+# Every run above went to convergence (the first cell prints how it was
+# judged). With 20 clusters FAST's energy is <span class="measured">1.28</span> times full ARAP's; four times as
+# many clusters bring it only to <span class="measured">1.27</span>, while a single cluster costs <span class="measured">2.05</span>: past a
+# few clusters, the subspace of the weights, not the sharing of rotations, is
+# what keeps FAST above ARAP here.
+#
 # On 1,500 vertices both solvers are quick and FAST's per-iteration cost is
 # mostly Python's overhead for a few dozen small numpy calls. The gap opens with
 # the mesh size: ARAP's iteration grows with $n$, FAST's does not. The same pose
