@@ -30,16 +30,14 @@ import time
 from pathlib import Path
 from typing import BinaryIO, NamedTuple
 
-from queue import Empty
-
 from jupyter_client import BlockingKernelClient, KernelManager
-from jupyter_client.asynchronous import AsyncKernelClient
 from jupyter_client.kernelspec import KernelSpec
 from jupyter_core.utils import run_sync
 from traitlets import DottedObjectName
 
 from grader.sandbox import bwrap, fork_server
 from grader.sandbox.bwrap import SandboxSpec, sandbox_env, sandbox_user_namespace, wrap_command
+from grader.sandbox.kernel_client import SandboxedKernelClient
 from grader.sandbox.limits import (
     Process, hold_pid_namespace, innermost_pid, is_running, kill_and_reap, namespace_members, peak_rss_bytes, pid_namespace, process,
     process_tree,
@@ -57,8 +55,6 @@ _MAX_SOCKET_PATH = 107
 _SEALED_UID = 65534
 # How long start-up waits for the kernel's sockets before sealing what is there.
 _SOCKETS_TIMEOUT = 60.0
-# How long one kernel_info request waits for its reply, and then for its "idle" on IOPub, before asking again.
-_READY_ATTEMPT = 1.0
 # How a fresh kernel is started; its arguments follow.
 _KERNEL_LAUNCHER = [sys.executable, "-m", "ipykernel_launcher"]
 #: the IPython extension every grading kernel loads before any cell (``starter/library_policy.py``)
@@ -71,51 +67,6 @@ class _PendingFork(NamedTuple):
     from_waiter: BinaryIO  # the waiter's stdout: one byte once bubblewrap has built the sandbox
     to_waiter: BinaryIO  # the waiter's stdin: the kernel's pid in the sandbox, once it is there
     kw: dict  # the launch's options, for the kernel's arguments or a fresh start instead
-
-
-class SandboxedKernelClient(AsyncKernelClient):
-    """jupyter_client's asynchronous client, ready as soon as the kernel is.
-
-    jupyter_client's ``wait_for_ready`` ends by draining IOPub until it stays
-    silent for 0.2 s, and checks that IOPub is connected with another 0.2 s
-    wait: at least 0.2 s of idling per kernel start. Here the kernel is ready
-    when it has answered a ``kernel_info`` request on the shell channel *and*
-    reported ``idle`` for that same request on IOPub, which proves the IOPub
-    subscription is live. Both are awaited as messages, not timeouts. Messages
-    of other requests left in the channels do no harm: nbclient reads only the
-    replies and outputs of the cell it runs (it matches the parent ``msg_id``).
-    """
-
-    async def wait_for_ready(self, timeout: float | None = None) -> None:
-        deadline = time.monotonic() + (float("inf") if timeout is None else timeout)
-        while True:
-            msg_id = self.kernel_info()
-            reply = await self._message_of(self.shell_channel, msg_id, lambda m: m["msg_type"] == "kernel_info_reply", deadline)
-            if reply is not None:
-                idle = await self._message_of(
-                    self.iopub_channel, msg_id, lambda m: m["msg_type"] == "status" and m["content"].get("execution_state") == "idle", deadline
-                )
-                if idle is not None:
-                    self._handle_kernel_info_reply(reply)
-                    return
-            if not await self._async_is_alive():
-                raise RuntimeError("Kernel died before replying to kernel_info")
-            if time.monotonic() > deadline:
-                raise RuntimeError(f"Kernel didn't respond in {timeout:.0f} seconds")
-
-
-    @staticmethod
-    async def _message_of(channel, msg_id: str, wanted, deadline: float) -> dict | None:
-        """The first message on ``channel`` answering ``msg_id`` that ``wanted`` accepts, within one attempt; None if none came."""
-        until = min(deadline, time.monotonic() + _READY_ATTEMPT)
-        while (left := until - time.monotonic()) > 0:
-            try:
-                msg = await channel.get_msg(timeout=left)
-            except Empty:
-                return None
-            if msg.get("parent_header", {}).get("msg_id") == msg_id and wanted(msg):
-                return msg
-        return None
 
 
 class SandboxedKernelManager(KernelManager):
@@ -165,7 +116,7 @@ class SandboxedKernelManager(KernelManager):
     _pending_fork: _PendingFork | None = None  # a deferred launch's sandbox, waiting for its kernel
     namespace_cap: int | None = None  # RLIMIT_NPROC applied inside the sandbox, when no cgroup caps it
 
-    client_class = DottedObjectName("grader.sandbox.kernel.SandboxedKernelClient", config=True)
+    client_class = DottedObjectName("grader.sandbox.kernel_client.SandboxedKernelClient", config=True)
 
     pid_namespace: str | None = None  # the sandbox's, e.g. "pid:[4026532771]", once seen; held by _namespace_fd
     _namespace_fd: int | None = None  # keeps pid_namespace's name from going to another sandbox
