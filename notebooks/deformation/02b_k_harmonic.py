@@ -305,7 +305,7 @@ assert np.abs(_D - [0.3, -0.2, 0.5]).max() < 1e-8, "every handle moved by (0.3, 
 _D_h = np.zeros((len(handles), 3))
 _D_h[len(left):, 2] = 1.0
 _D = k_harmonic_solve(_data, _D_h)
-_free = np.setdiff1d(np.arange(len(V)), handles)
+_free = np.flatnonzero(~np.isin(np.arange(len(V)), handles))
 assert np.abs((_Q2 @ _D)[_free]).max() < 1e-8 * abs(_Q2).max(), "on the bar: (Q D) must vanish at every free vertex (the energy is stationary there)"
 
 # %% [markdown]
