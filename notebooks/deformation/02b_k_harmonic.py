@@ -282,6 +282,9 @@ _second = k_harmonic_solve(_data, np.array([[0.0], [4.0]]))
 assert np.allclose(_first.ravel(), [0.0, 0.5, 1.0]) and np.allclose(_second.ravel(), [4.0, 2.0, 0.0]), (
     f"one precomputation, two solves on a path 0 - 1 - 2 with handles [2, 0]: expected [0, 0.5, 1] and [4, 2, 0], got "
     f"{np.round(_first.ravel(), 6).tolist()} and {np.round(_second.ravel(), 6).tolist()} (the data must serve any number of solves)"
+    + ("; the displacements went to the handles in ascending order: row j of handle_displacements belongs to handles[j], "
+       "so keep the caller's order (np.unique would also sort the handles)"
+       if np.allclose(_first.ravel(), [1.0, 0.5, 0.0]) else "")
 )
 
 # %% deformlab={"tests": "k_harmonic_solve", "points": 3}

@@ -102,6 +102,7 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "solve_energy_before_global": (("rotations the global step used",),),
     "solve_keeps_u0_handles": (("before the first local step",),),
     "tet_arap_precompute_accepts_bad_handles": (("must raise ValueError",),),
+    "k_harmonic_precompute_sorts_handles": (("np.unique would also sort",),),
     "k_harmonic_operator_without_mass": (("M⁻¹ is missing",),),
     "k_harmonic_operator_sign": (("the sign",),),
     "k_harmonic_operator_k_off_by_one": (("off by one",),),

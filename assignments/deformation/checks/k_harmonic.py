@@ -74,6 +74,36 @@ def k_harmonic_scenes(rng: np.random.Generator) -> dict[str, tuple[np.ndarray, n
     return scenes
 
 
+def exact_problems(rng: np.random.Generator) -> list[tuple]:
+    """``(label, (V, F), Q_k, handles, D_h, D, property)``: problems whose answer ``D`` is known exactly.
+
+    Constants cost no energy, so a common translation of every handle moves every
+    vertex by it (any mesh, any k). On a flat mesh ``L`` annihilates affine
+    functions away from the boundary, so with the outer ``k`` rings of a grid as
+    handles the free rows of ``Q_k`` do too: an affine displacement is reproduced.
+    """
+    out = []
+    V, F = relabel(*shapes.bar(length=3.0, width=1.0, height=1.0, nx=8, ny=2, nz=2), rng)
+    handles = unsorted_order(rng, np.r_[_ends(V)])
+    t = rng.normal(size=3)
+    L, M = _operators(V, F)
+    for k in (1, 2):
+        out.append((f"3D bar, both ends moved by the same translation, k = {k}", (V, F), reference("k_harmonic_operator")(L, M, k).toarray(),
+                    handles, np.tile(t, (len(handles), 1)), np.tile(t, (len(V), 1)), "every vertex moves by the handles' translation"))
+    nx, ny = 9, 7
+    V, F = relabel(*shapes.grid_2d(nx, ny, width=1.8, height=1.4), rng)
+    i, j = np.rint(V[:, 0] / 0.2), np.rint(V[:, 1] / 0.2)
+    ring = np.minimum.reduce([i, nx - i, j, ny - j])  # 0 on the boundary, 1 on the next ring...
+    L, M = _operators(V, F)
+    for k in (1, 2):
+        handles = unsorted_order(rng, np.flatnonzero(ring < k))
+        A, b = rng.normal(size=(2, 2)), rng.normal(size=2)
+        D = V @ A.T + b
+        out.append((f"flat 2D grid, its outer {k} ring(s) of vertices moved by a random affine map, k = {k}", (V, F),
+                    reference("k_harmonic_operator")(L, M, k).toarray(), handles, D[handles], D, "the affine displacement is reproduced exactly"))
+    return out
+
+
 def _solve_cases(rng: np.random.Generator) -> list[tuple[str, tuple, np.ndarray, np.ndarray, np.ndarray, int]]:
     """``(label, (V, F), Q_k, handles, D_h, k)`` for k = 1 and 2 on every scene, and k = 3 on one."""
     out = []
@@ -172,16 +202,28 @@ class KHarmonicPrecomputeChecks(FunctionChecks):
 class KHarmonicSolveChecks(FunctionChecks):
     function = "k_harmonic_solve"
     needs = ("k_harmonic_precompute",)
-    description = "D with the handles' displacements exactly and (Q D)[free] = 0, for k = 1, 2, 3, in 2D and 3D, two components"
+    description = (
+        "D with the handles' displacements exactly and (Q D)[free] = 0, for k = 1, 2, 3, in 2D and 3D, two components; "
+        "translations reproduced exactly, affine maps on flat grids with k rings of handles too"
+    )
 
     def cases(self, rng):
         # the mesh stays here (the kernel gets Q): the feedback picture draws V + D on it
-        return [
+        cases = [
             Case(label, [Step("k_harmonic_precompute", (Q, handles)), Step("k_harmonic_solve", (Ref(0), D_h))], {"mesh": mesh})
             for label, mesh, Q, handles, D_h, _ in _solve_cases(rng)
         ]
+        for label, mesh, Q, handles, D_h, D, what in exact_problems(rng):
+            cases.append(Case(label, [Step("k_harmonic_precompute", (Q, handles)), Step("k_harmonic_solve", (Ref(0), D_h))],
+                              {"mesh": mesh, "exact": D, "property": what}))
+        return cases
 
     def verify(self, case, got, expected):
         Q, handles = case.args(0)
         _, D_h = case.args(1)
-        return _solve_verdicts(got, expected, np.asarray(Q), np.asarray(handles), np.asarray(D_h))
+        verdicts = _solve_verdicts(got, expected, np.asarray(Q), np.asarray(handles), np.asarray(D_h))
+        if "exact" in case.context:  # a problem whose answer is known in closed form, not only the reference's
+            D = as_array(got, case.context["exact"].shape, "D")
+            ok, where = close(D, case.context["exact"], SOLVE_RTOL, float(np.abs(D_h).max()))
+            verdicts.insert(2, verdict(case.context["property"], ok, f"{where} (vertex, coordinate)"))
+        return verdicts
