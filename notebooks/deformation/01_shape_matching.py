@@ -13,6 +13,8 @@
 # %% [markdown]
 # # 01 · Shape matching: the best orthogonal map between two point sets
 #
+# *Workload: about 2.4 hours for 4 graded functions and 1 written answer (11 points); see the README's workload table.*
+#
 # You are given $k$ points $p_1, \dots, p_k$ (the rows of `P`, shape `(k, d)`),
 # the same points after some motion, $q_1, \dots, q_k$ (the rows of `Q`, with
 # $q_i$ corresponding to $p_i$), and weights $w_i \ge 0$ saying how much each

@@ -13,6 +13,8 @@
 # %% [markdown]
 # # 02 · Sign correction: from the best orthogonal map to the best rotation
 #
+# *Workload: about 1.9 hours for 2 graded functions and 1 written answer (7 points); see the README's workload table.*
+#
 # In stage 01 you found the orthogonal $R$ and the translation $t$ minimizing
 #
 # $$E(R, t) = \sum_i w_i \,\lVert R p_i + t - q_i \rVert^2 :$$
