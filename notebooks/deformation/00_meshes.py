@@ -13,7 +13,7 @@
 # %% [markdown]
 # # 00 · Meshes: vertices, edges, faces and the Euler–Poincaré formula
 #
-# *Workload: about 2.5 hours for 4 graded functions and 1 written answer (11 points); see the README's workload table.*
+# *Workload: about 2.5 hours for 4 graded functions (11 points) and 1 written answer (an estimate for a student who attended the lecture).*
 #
 # Every shape you will deform in this assignment is a **triangle mesh**: an array
 # `V` of shape `(n, d)` holding one vertex position per row ($d = 2$ for planar

@@ -13,7 +13,7 @@
 # %% [markdown]
 # # 01 · Shape matching: the best orthogonal map between two point sets
 #
-# *Workload: about 2.4 hours for 4 graded functions and 1 written answer (11 points); see the README's workload table.*
+# *Workload: about 2.4 hours for 4 graded functions (11 points) and 1 written answer (an estimate for a student who attended the lecture).*
 #
 # You are given $k$ points $p_1, \dots, p_k$ (the rows of `P`, shape `(k, d)`),
 # the same points after some motion, $q_1, \dots, q_k$ (the rows of `Q`, with

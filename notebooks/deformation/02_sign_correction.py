@@ -13,7 +13,7 @@
 # %% [markdown]
 # # 02 · Sign correction: from the best orthogonal map to the best rotation
 #
-# *Workload: about 1.9 hours for 2 graded functions and 1 written answer (7 points); see the README's workload table.*
+# *Workload: about 1.9 hours for 2 graded functions (7 points) and 1 written answer (an estimate for a student who attended the lecture).*
 #
 # In stage 01 you found the orthogonal $R$ and the translation $t$ minimizing
 #

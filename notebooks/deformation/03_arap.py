@@ -13,7 +13,7 @@
 # %% [markdown]
 # # 03 · As-rigid-as-possible deformation
 #
-# *Workload: about 7.5 hours for 9 graded functions and 2 written answers (20 points); see the README's workload table.*
+# *Workload: about 7.5 hours for 9 graded functions (20 points) and 2 written answers (an estimate for a student who attended the lecture).*
 #
 # A user grabs a few *handles* of a shape, here the two ends of a bar, and moves
 # them. Every other vertex should follow so that the shape looks the same up

@@ -13,7 +13,7 @@
 # %% [markdown]
 # # 04 · Bounded biharmonic weights
 #
-# *Workload: about 5.5 hours for 5 graded functions and 2 written answers (13 points); see the README's workload table.*
+# *Workload: about 5.5 hours for 5 graded functions (13 points) and 2 written answers (an estimate for a student who attended the lecture).*
 #
 # Linear blend skinning (stage 05) moves every vertex by a blend of the handles'
 # transformations, $x' = \sum_j w_j(x)\, T_j [x; 1]$. The pose is only the $m$

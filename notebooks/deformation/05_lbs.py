@@ -13,7 +13,7 @@
 # %% [markdown]
 # # 05 · Linear blend skinning
 #
-# *Workload: about 5.2 hours for 5 graded functions and 5 written answers (18 points); see the README's workload table.*
+# *Workload: about 5.2 hours for 5 graded functions (18 points) and 5 written answers (an estimate for a student who attended the lecture).*
 #
 # ARAP (stage 03) solves an optimization problem for every pose. Games and
 # animation tools need hundreds of poses per second for meshes with many

@@ -13,7 +13,7 @@
 # %% [markdown]
 # # 06 · Bonus: fast automatic skinning transformations (FAST)
 #
-# *Workload: about 6.2 hours for 6 graded functions and 1 written answer (13 bonus points); see the README's workload table.*
+# *Workload: about 6.2 hours for 6 graded functions (13 bonus points) and 1 written answer (an estimate for a student who attended the lecture).*
 #
 # **Every point in this notebook is a bonus point**: it is graded like the
 # others, but it is not part of the assignment's regular maximum.

@@ -13,7 +13,7 @@
 # %% [markdown]
 # # 07 · Tetrahedra: finite elements and ARAP on a volume
 #
-# *Workload: about 5.9 hours for 9 graded functions and 3 written answers (22 bonus points); see the README's workload table.*
+# *Workload: about 5.9 hours for 9 graded functions (22 bonus points) and 3 written answers (an estimate for a student who attended the lecture).*
 #
 # Every mesh so far was a surface: a 2D region cut into triangles, or the skin of
 # a 3D shape. The lecture mentions volumes once, on the BBW slides: the weights'
