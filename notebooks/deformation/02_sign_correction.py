@@ -203,6 +203,13 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
     print(f"noise {noise:5.3f}: sigma_3 = {sigma[2]:.1e}, a reflection in {reflections / trials:4.0%} of {trials} trials")
 
 # %% [markdown]
+# With little noise (up to 0.003, three times the thickness) the thin character
+# comes out turned, not mirrored, in every trial: a reflection in <span class="measured">0%</span> of them.
+# With more, $\sigma_3$ measures the noise rather than the shape and the sign goes
+# either way: <span class="measured">8%</span> of the trials at noise 0.01, <span class="measured">36%</span> at 0.03 and
+# <span class="measured">52%</span> at 0.1, about a coin toss.
+
+# %% [markdown]
 # ## 2. The best rotation
 #
 # We now maximize $\operatorname{tr}(RS)$ over rotations only. As in stage 01,
