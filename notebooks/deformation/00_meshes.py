@@ -13,6 +13,8 @@
 # %% [markdown]
 # # 00 · Meshes: vertices, edges, faces and the Euler–Poincaré formula
 #
+# *Workload: about 2.5 hours for 4 graded functions (11 points) and 1 written answer (an estimate for a student who attended the lecture).*
+#
 # Every shape you will deform in this assignment is a **triangle mesh**: an array
 # `V` of shape `(n, d)` holding one vertex position per row ($d = 2$ for planar
 # meshes, $d = 3$ for surfaces), and an integer array `F` of shape `(f, 3)` whose
@@ -404,10 +406,11 @@ assert _g == 0, (
 # invisible to $\chi$, which is unchanged by any deformation or remeshing that does
 # not tear or glue. So $\chi$ cannot tell the nut from a washer, a ring or a
 # coffee mug; it only says that no deformation of this mesh can close the hole
-# or make a second one. The ant is not one surface but $c = 15$ separate closed
+# or make a second one. The ant is not one surface but <span class="measured">15</span> separate closed
 # pieces (body parts and limbs, each modelled on its own), each a topological sphere with
 # $\chi = 2$: $\chi = 2(c - g) - b = 2 \cdot 15 = 30$. $\chi$ adds up over
-# components, which is why $c$ belongs in the formula.
+# components, which is why $c$ belongs in the formula (the table below
+# counts $g$ = <span class="measured">0</span> for the ant and $g$ = <span class="measured">1</span> for the nut).
 
 # %% [markdown]
 # Your functions, on the gallery from the top. Compare with your guesses and

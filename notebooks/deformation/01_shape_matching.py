@@ -13,6 +13,8 @@
 # %% [markdown]
 # # 01 · Shape matching: the best orthogonal map between two point sets
 #
+# *Workload: about 2.4 hours for 4 graded functions (11 points) and 1 written answer (an estimate for a student who attended the lecture).*
+#
 # You are given $k$ points $p_1, \dots, p_k$ (the rows of `P`, shape `(k, d)`),
 # the same points after some motion, $q_1, \dots, q_k$ (the rows of `Q`, with
 # $q_i$ corresponding to $p_i$), and weights $w_i \ge 0$ saying how much each
@@ -415,6 +417,9 @@ print(f"det R = {np.linalg.det(R):+.3f}; RMS distance to Q: {rms_before:.3f} bef
 plotting.show_points(P, Q, P @ R.T + t, title="P aligned to Q by orthogonal_align")
 
 # %% [markdown]
+# The distance falls from <span class="measured">2.725</span> to <span class="measured">0.039</span>, the size of the noise
+# itself (<span class="measured">0.038</span>): nothing of the misfit is left but the noise.
+#
 # Now let the target be the **mirror image** of the character. The fit is
 # perfect, and $\det R = -1$: $R$ is a reflection, a map no rigid motion of the
 # plane can perform.

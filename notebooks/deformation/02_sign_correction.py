@@ -13,6 +13,8 @@
 # %% [markdown]
 # # 02 · Sign correction: from the best orthogonal map to the best rotation
 #
+# *Workload: about 1.9 hours for 2 graded functions (7 points) and 1 written answer (an estimate for a student who attended the lecture).*
+#
 # In stage 01 you found the orthogonal $R$ and the translation $t$ minimizing
 #
 # $$E(R, t) = \sum_i w_i \,\lVert R p_i + t - q_i \rVert^2 :$$
@@ -199,6 +201,13 @@ for noise in [0.0, 0.003, 0.01, 0.03, 0.1]:
         U_svd, sigma, U_tilde_T = np.linalg.svd(covariance_matrix(P_thin, Q_noisy))
         reflections += np.linalg.det(U_tilde_T.T @ U_svd.T) < 0
     print(f"noise {noise:5.3f}: sigma_3 = {sigma[2]:.1e}, a reflection in {reflections / trials:4.0%} of {trials} trials")
+
+# %% [markdown]
+# With little noise (up to 0.003, three times the thickness) the thin character
+# comes out turned, not mirrored, in every trial: a reflection in <span class="measured">0%</span> of them.
+# With more, $\sigma_3$ measures the noise rather than the shape and the sign goes
+# either way: <span class="measured">8%</span> of the trials at noise 0.01, <span class="measured">36%</span> at 0.03 and
+# <span class="measured">52%</span> at 0.1, about a coin toss.
 
 # %% [markdown]
 # ## 2. The best rotation

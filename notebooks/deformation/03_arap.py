@@ -13,6 +13,8 @@
 # %% [markdown]
 # # 03 · As-rigid-as-possible deformation
 #
+# *Workload: about 7.5 hours for 9 graded functions (20 points) and 2 written answers (an estimate for a student who attended the lecture).*
+#
 # A user grabs a few *handles* of a shape, here the two ends of a bar, and moves
 # them. Every other vertex should follow so that the shape looks the same up
 # close: locally it may rotate, but it should not stretch, shear or squash.
@@ -1177,9 +1179,12 @@ for motion in (twist, bend):
 plotting.show_energy(curves, title="ARAP energy of the coarse bar twisted by 90°")
 
 # %% [markdown]
-# The previous frame wins by far: its rotations already point the right way.
-# Laplacian editing starts much lower than the rest pose, since the handle's
-# motion is already spread along the bar, yet it saves only a few iterations:
+# The previous frame wins by far (within 2 % after <span class="measured">17</span> iterations for the
+# twist and <span class="measured">6</span> for the bend): its rotations already point the right way.
+# Laplacian editing starts much lower than the rest pose (energy <span class="measured">3.27</span> against
+# <span class="measured">9.398</span> after one iteration of the twist), since the handle's motion is
+# already spread along the bar, yet it saves only a few iterations (<span class="measured">35</span>
+# against <span class="measured">37</span> for the twist, <span class="measured">15</span> against <span class="measured">18</span> for the bend):
 # its cells are sheared, not turned, and finding the rotations is what takes
 # the iterations.
 #
@@ -1288,8 +1293,9 @@ for nx, ny in ((12, 3), (20, 5), (28, 7)):
 plotting.show_energy(curves, title="energy above the converged one, 90° twist from the rest pose")
 
 # %% [markdown]
-# The iterations grow with the resolution (the printed counts), and so does the
-# condition number, roughly with the number of vertices. A local step only sees
+# The iterations grow with the resolution (<span class="measured">41</span>, <span class="measured">61</span> and <span class="measured">101</span> for
+# <span class="measured">164</span>, <span class="measured">452</span> and <span class="measured">884</span> vertices), and so does the condition number
+# (<span class="measured">116</span>, <span class="measured">324</span>, <span class="measured">635</span>), roughly with the number of vertices. A local step only sees
 # one cell, so the rotation has to spread from the twisted cap along the bar
 # through the alternation, and a finer mesh has more cells for it to cross: the
 # same slow diffusion that a badly conditioned matrix means for an iterative
@@ -1325,8 +1331,8 @@ print(f"90° twist: bar_coarse ({len(Vc)} vertices) converges to {converged[-1]:
 # (its spokes and rims) lie in different tangent planes and one rotation cannot
 # fit them all. That misfit grows with the size of the cell relative to the
 # change of the normal across it, so the cost of a given bend shrinks as the
-# cells get smaller (here the energy of the same twist drops from about 1.1 to
-# 0.7 from bar_coarse to bar). ARAP on surfaces is therefore not
+# cells get smaller (here the converged energy of the same twist is <span class="measured">1.102</span> on
+# bar_coarse, while bar is already down to <span class="measured">0.712</span> and still falling). ARAP on surfaces is therefore not
 # resolution-independent: coarse meshes are stiffer against bending and
 # twisting, fine meshes softer; the rotation field can vary faster on a finer
 # mesh.
@@ -1391,8 +1397,8 @@ plotting.show_meshes(results, titles=list(local_steps), label="triangle", catego
 # better than turning it, so allowing reflections enlarges the set the local
 # step optimizes over and the minimum is lower. But a cell asked to be the
 # mirror image of its rest shape is inside out: the global step then places its
-# triangles with reversed orientation, hundreds of flipped triangles, while with
-# rotations only a few triangles near the crossing flip. Monotonicity (each step
+# triangles with reversed orientation, <span class="measured">747</span> of 2906 triangles flipped, while with
+# rotations only a few triangles near the crossing flip (<span class="measured">3</span>). Monotonicity (each step
 # minimizes exactly over its own unknowns, so E never goes up and converges)
 # holds in both runs: it guarantees a non-increasing energy and convergence, not
 # a good shape, not the global minimum (E is not convex in (x′, R) jointly), and
@@ -1484,7 +1490,8 @@ plotting.show_energy({"local-global": np.array(local_global) - lowest + 1e-12,
 # %% [markdown]
 # An iteration costs about the same in both (one rotation fit, one solve with
 # the factorized $(-L)_{ff}$, one energy), and on this problem the plain
-# alternation needs no more iterations than L-BFGS (the printed counts; the
+# alternation needs no more iterations than L-BFGS (<span class="measured">61</span> against <span class="measured">67</span> to come within
+# 1e-3 of the lowest energy; the
 # times follow them up to the noise of a shared machine, tens of percent). Both
 # sequences of iterates decrease monotonically, but for different reasons:
 # local–global because each step is an exact minimization, L-BFGS only because
@@ -1550,8 +1557,9 @@ plotting.show_meshes(pictures, titles=[f"cells: {label}" for label in cells], la
 # creases. Spokes tie the rotation of each vertex to the directions of its
 # edges only, and the mesh develops small wrinkles from cell to cell (the
 # checkered colour); adding the rims makes each cell a patch of triangles that
-# must turn together, which resists bending and reduces them (the printed
-# fractions).
+# must turn together, which resists bending and reduces them (a crease angle grown by
+# more than 10° on <span class="measured">20.5%</span> of the triangles with spokes, <span class="measured">16.0%</span> with
+# spokes and rims, <span class="measured">26.0%</span> with triangle cells).
 # This is the same effect as in §11: what resists bending is the misfit of one
 # rotation over a curved cell, so it depends on what a cell is and how large it
 # is.

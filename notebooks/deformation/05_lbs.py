@@ -13,6 +13,8 @@
 # %% [markdown]
 # # 05 · Linear blend skinning
 #
+# *Workload: about 5.2 hours for 5 graded functions (18 points) and 5 written answers (an estimate for a student who attended the lecture).*
+#
 # ARAP (stage 03) solves an optimization problem for every pose. Games and
 # animation tools need hundreds of poses per second for meshes with many
 # thousands of vertices, and they use a much simpler rule: every handle $j$
@@ -410,8 +412,8 @@ plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
 # $$
 #
 # so the blend does turn the cross-section by the expected $\theta/2$, but it also
-# **scales it by $\cos(\theta/2)$** (compare with your measurements: 0.7071 at
-# 90°, 0.3827 at 135°): at $\theta = 180°$ the middle of the cylinder collapses
+# **scales it by $\cos(\theta/2)$** (compare with your measurements: <span class="measured">0.7071</span> at
+# 90°, <span class="measured">0.3827</span> at 135°): at $\theta = 180°$ the middle of the cylinder collapses
 # to its axis, like the twisted ends of a candy wrapper. The reason is general: a
 # weighted average of rotation matrices is not a rotation (rotations do not form
 # a linear space), and LBS averages matrices. Skinning methods that blend
@@ -790,11 +792,11 @@ assert _err < 1e-10, f"the same rigid T for every handle must move the shape rig
 # Twist: LBS collapses the middle ring to the axis (×0, since ½(I + R_180°) is
 # zero across the axis); DQS keeps the radius exactly (every vertex moves by a
 # rotation about the axis); ARAP in steps keeps most of it but not all (the
-# surface shortens its twisted edges a little: ×0.94 measured). Elbow: LBS loses
-# volume at the joint (the inner side collapses: skin-to-bone distance ×0.45,
-# volume −13 % of the joint zone); DQS keeps the volume (−0.5 %) but bulges on
-# the outer side (×1.06); surface ARAP keeps the skin's edges, not the volume:
-# the tube folds at the joint (−38 %, the inner side down to ×0.20, bulge ×1.25).
+# surface shortens its twisted edges a little: ×<span class="measured">0.938</span> measured). Elbow: LBS loses
+# volume at the joint (the inner side collapses: skin-to-bone distance ×<span class="measured">0.45</span>,
+# volume <span class="measured">−13.1</span> % of the joint zone); DQS keeps the volume (<span class="measured">−0.5</span> %) but bulges on
+# the outer side (×<span class="measured">1.06</span>); surface ARAP keeps the skin's edges, not the volume:
+# the tube folds at the joint (<span class="measured">−37.9</span> %, the inner side down to ×<span class="measured">0.20</span>, bulge ×<span class="measured">1.25</span>).
 
 # %%
 def turn(axis, degrees):
@@ -919,7 +921,7 @@ plotting.show_meshes(pictures, titles=[f"elbow 90°, {name}: belt" for name in e
 # side of the zone becomes an arc around the joint instead of following the bent
 # bones, and points there end up farther from the skeleton than the rest radius
 # (the bulge); the inner side keeps its distance to the joint too, so it folds
-# in less than with LBS (skin to bone ×0.62 against ×0.45) and the volume stays. LBS moves the same vertices by averaged matrices, which
+# in less than with LBS (skin to bone ×<span class="measured">0.62</span> against ×<span class="measured">0.45</span>) and the volume stays. LBS moves the same vertices by averaged matrices, which
 # shrink towards the joint: the inner side collapses and the volume drops. ARAP
 # here acts on the surface only: its cells are fans of skin triangles, so it
 # keeps the skin's edge lengths and is free to fold the tube at the joint; no

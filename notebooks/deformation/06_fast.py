@@ -13,6 +13,8 @@
 # %% [markdown]
 # # 06 · Bonus: fast automatic skinning transformations (FAST)
 #
+# *Workload: about 6.2 hours for 6 graded functions (13 bonus points) and 1 written answer (an estimate for a student who attended the lecture).*
+#
 # **Every point in this notebook is a bonus point**: it is graded like the
 # others, but it is not part of the assignment's regular maximum.
 #
@@ -959,7 +961,8 @@ for k in (1, 5, 20, 80):
 
 # %% [markdown]
 # Every run above went to convergence (the first cell prints how it was
-# judged). With 20 clusters FAST's energy is <span class="measured">1.28</span> times full ARAP's; four times as
+# judged: with 20 clusters FAST converged after <span class="measured">150</span> iterations, ARAP after
+# <span class="measured">1350</span>). With 20 clusters FAST's energy is <span class="measured">1.28</span> times full ARAP's; four times as
 # many clusters bring it only to <span class="measured">1.27</span>, while a single cluster costs <span class="measured">2.05</span>: past a
 # few clusters, the subspace of the weights, not the sharing of rotations, is
 # what keeps FAST above ARAP here.
