@@ -6,6 +6,11 @@ keeps the previous run below it, so a change's effect is visible in one file.
 
     python -m benchmarks                 # all
     python -m benchmarks arap bbw        # some
+    python -m benchmarks --refresh bbw   # rerun some, replace their sections in the latest run
+
+``--refresh`` keeps the latest run and its predecessor, replaces (or adds) the
+named benchmarks' sections in the latest run and notes when they were taken:
+one benchmark can be measured again without rerunning the whole suite.
 """
 
 from __future__ import annotations
@@ -41,7 +46,30 @@ def _section(figures: dict[str, dict], started: str) -> str:
     return "\n".join(lines)
 
 
+def _refreshed(text: str, figures: dict[str, dict], started: str) -> str:
+    """``text`` (RESULTS.md) with the latest run's sections of ``figures`` replaced or added."""
+    head, sep, previous = text.partition(MARK)
+    for name, figs in figures.items():
+        section = _section({name: figs}, started).split("\n", 4)[4]  # without the run's heading
+        # the other sections may have seen another load: say when, and how busy the machine was
+        note = (f"Re-measured alone at {started} (`python -m benchmarks --refresh {name}`), "
+                f"load average {__import__('os').getloadavg()[0]:.1f} on {__import__('os').cpu_count()} cores afterwards.")
+        section = section.replace("\n", f"\n\n{note}\n", 1).rstrip("\n") + "\n\n"
+        start = head.find(f"\n### {name}\n")
+        if start < 0:
+            head = head.rstrip("\n") + "\n\n" + section
+        else:
+            end = head.find("\n### ", start + 1)
+            head = head[:start + 1] + section + (head[end + 1:] if end >= 0 else "")
+    return head.rstrip("\n") + "\n" + (f"\n{sep}{previous}" if sep else "")
+
+
 def main(argv: list[str]) -> int:
+    refresh = "--refresh" in argv
+    argv = [a for a in argv if a != "--refresh"]
+    if refresh and not (argv and RESULTS.is_file() and "## Run of" in RESULTS.read_text()):
+        print("--refresh needs benchmark names and a RESULTS.md with a run to refresh", file=sys.stderr)
+        return 2
     names = argv or list(ORDER)
     unknown = [n for n in names if n not in ORDER]
     if unknown:
@@ -54,6 +82,10 @@ def main(argv: list[str]) -> int:
         t0 = time.perf_counter()
         figures[name] = dict(importlib.import_module(f"benchmarks.bench_{name}").main())
         figures[name]["benchmark wall time (s)"] = time.perf_counter() - t0
+    if refresh:
+        RESULTS.write_text(_refreshed(RESULTS.read_text(), figures, started))
+        print(f"\nsections {names} replaced in {RESULTS}")
+        return 0
     previous = ""
     if RESULTS.is_file():
         text = RESULTS.read_text()
