@@ -48,9 +48,25 @@ def unprinted_quotes(nb: nbformat.NotebookNode) -> list[str]:
         E.g. ``"cell 41 quotes 0.475, which no cell prints"``; empty when every quote is printed.
     """
     printed = _printed(nb).replace("-", "−")
+    numbers = [float(n.replace("−", "-")) for n in _NUMBER.findall(printed)]
     problems = []
     for i, quote in quoted_measurements(nb):
         pattern = r"(?<![\d.])" + re.escape(quote.replace("-", "−")) + r"(?![\d])"
         if not re.search(pattern, printed):
-            problems.append(f"cell {i + 1} quotes {quote}, which no cell prints")
+            problems.append(f"cell {i + 1} quotes {quote}, which no cell prints{_closest(quote, numbers)}")
     return problems
+
+
+_NUMBER = re.compile(r"[−+]?\d+(?:\.\d+)?")
+
+
+def _closest(quote: str, numbers: list[float]) -> str:
+    """`` (the closest printed number is 0.475)``, for a quote that is a number; empty otherwise."""
+    try:
+        value = float(quote.replace("−", "-").replace(",", ""))
+    except ValueError:
+        return ""
+    if not numbers:
+        return " (the notebook prints no number)"
+    closest = min(numbers, key=lambda n: abs(n - value))
+    return f" (the closest printed number is {closest:g})"

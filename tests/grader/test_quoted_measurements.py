@@ -17,12 +17,12 @@ def test_a_quote_printed_as_quoted_passes_and_one_that_is_not_is_named_with_its_
     assert quoted_measurements(nb) == [(1, "−81.2"), (1, "0.475")]
     assert unprinted_quotes(nb) == []
     stale = _executed('It keeps × <span class="measured">0.46</span> of its size.', "size × 0.475\n")
-    assert unprinted_quotes(stale) == ["cell 2 quotes 0.46, which no cell prints"]
+    assert unprinted_quotes(stale) == ["cell 2 quotes 0.46, which no cell prints (the closest printed number is 0.475)"]
 
 
 def test_a_quote_matches_whole_numbers_only():
     nb = _executed('about <span class="measured">0.47</span>', "size × 0.475, 10.47 elsewhere\n")
-    assert unprinted_quotes(nb) == ["cell 2 quotes 0.47, which no cell prints"]
+    assert unprinted_quotes(nb) == ["cell 2 quotes 0.47, which no cell prints (the closest printed number is 0.475)"]
 
 
 def test_the_span_is_what_students_read_as_the_bare_number():
