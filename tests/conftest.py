@@ -9,6 +9,8 @@ from pathlib import Path
 import pytest
 from hypothesis import settings
 
+import grader  # noqa: F401 - installs the finder of deformlab_packs.<pack>, which test modules import directly
+
 os.environ.setdefault("DEFORMLAB_NO_PLOTS", "1")
 
 # No test fails for being slow on a busy machine (Hypothesis's default deadline is 200 ms per example),
