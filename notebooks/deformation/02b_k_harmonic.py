@@ -13,6 +13,8 @@
 # %% [markdown]
 # # 02b · Harmonic and biharmonic deformation: the linear baseline
 #
+# *Workload: about 2.7 hours for 3 graded functions (9 points) and 1 written answer (an estimate for a student who attended the lecture).*
+#
 # A user grabs a few *handles* of a shape, here the two ends of a bar, and moves
 # them. Before ARAP (stage 03), try the simplest answer: give every handle vertex
 # its **displacement** and spread the displacements smoothly over the rest of the
@@ -60,8 +62,7 @@
 # **How to work.** Write each function in the cell below its explanation,
 # replacing `raise NotImplementedError()`, then run the tests cell under it.
 # Those tests are there to help you; your functions are graded on more inputs
-# than they show. This stage takes about two hours: three short functions and
-# two experiments.
+# than they show.
 
 # %%
 import igl
