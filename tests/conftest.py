@@ -6,6 +6,12 @@ import os
 import tempfile
 from pathlib import Path
 
+# One BLAS thread per test process, set before anything imports numpy: `make test` runs one xdist
+# worker per core, and a multi-threaded BLAS in each made them fight (an L-BFGS-B entry of the
+# public-hints test: 14.7 CPU-s with threads, 8.8 without). Grading workers do the same (workers.py).
+for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")
+
 import pytest
 from hypothesis import settings
 
