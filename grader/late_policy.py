@@ -39,6 +39,7 @@ from traitlets import Float, Int
 from traitlets.config import Configurable
 
 from grader.pipeline import record
+from grader.settings import read_config
 from grader.spreadsheet import csv_text, read_csv
 
 #: nbgrader writes one line ("2026-11-20 10:00:00.000000 UTC"); the file comes from the student's side of the exchange.
@@ -130,25 +131,14 @@ def configured_plugin(config_file: Path | None) -> BasePlugin:
     ``c.PerDayPenalty.fraction_per_day = 0.1``.
     """
     from nbgrader.preprocessors import AssignLatePenalties
-    from traitlets.config import Config
-    from traitlets.config.loader import PyFileConfigLoader
 
-    config = Config()
-    if config_file is not None and Path(config_file).is_file():
-        config = PyFileConfigLoader(Path(config_file).name, path=str(Path(config_file).parent)).load_config()
-    assigner = AssignLatePenalties(config=config)
+    assigner = AssignLatePenalties(config=read_config(config_file))
     return assigner.plugin_class(parent=assigner)
 
 
 def configured_late_days(config_file: Path | None) -> int:
     """The late-day budget a course's ``nbgrader_config.py`` sets (``c.LateDays.budget``; 0 when unset)."""
-    from traitlets.config import Config
-    from traitlets.config.loader import PyFileConfigLoader
-
-    config = Config()
-    if config_file is not None and Path(config_file).is_file():
-        config = PyFileConfigLoader(Path(config_file).name, path=str(Path(config_file).parent)).load_config()
-    budget = LateDays(config=config).budget
+    budget = LateDays(config=read_config(config_file)).budget
     if budget < 0:
         raise ValueError(f"c.LateDays.budget = {budget} in {config_file}: a budget of late days cannot be negative")
     return budget

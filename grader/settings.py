@@ -1,14 +1,17 @@
-"""The kit's settings of a course: ``c.DeformLab.*`` in the course's ``nbgrader_config.py``.
+"""The kit's settings of a course: ``c.DeformLab.*`` and ``c.Grading.*`` in the course's ``nbgrader_config.py``.
 
 One configuration system, nbgrader's own (traitlets): a course folder's
 ``nbgrader_config.py`` configures nbgrader and the kit alike. :class:`DeformLab`
-declares every setting of the kit (a wrong type is refused naming the file and
-the setting); :func:`course_settings` reads them for a course folder.
+and :class:`Grading` declare every setting of the kit (a wrong type is refused
+naming the file and the setting); :func:`course_settings` and
+:func:`grading_settings` read them for a course folder, :func:`read_config` the
+whole file for the kit's other configurables (the late policy's).
 Command-line flags override them for one run.
 """
 
 from __future__ import annotations
 
+import copy
 import functools
 from pathlib import Path
 
@@ -17,7 +20,7 @@ from traitlets.config import Config, Configurable
 
 from grader.sandbox.process_limit import DEFAULT_MAX_PROCESSES
 
-__all__ = ["DeformLab", "Grading", "SettingsError", "course_settings", "grading_settings", "course_config"]
+__all__ = ["DeformLab", "Grading", "SettingsError", "course_settings", "grading_settings", "course_config", "read_config"]
 
 CONFIG_FILE = "nbgrader_config.py"
 
@@ -71,22 +74,29 @@ class Grading(Configurable):
         return proposal["value"]
 
 
-def course_config(folder: str | Path) -> Config:
-    """Everything ``folder/nbgrader_config.py`` configures (an empty config without the file).
+def read_config(config_file: str | Path | None) -> Config:
+    """Everything the configuration file ``config_file`` configures (an empty config without one).
+
+    Read once per content: grading asks per unit, and a course's file rarely changes.
 
     Raises
     ------
     SettingsError
         If the file cannot be run.
     """
-    config_file = Path(folder) / CONFIG_FILE
-    if not config_file.is_file():
+    if config_file is None or not Path(config_file).is_file():
         return Config()
-    return _load(config_file.resolve(), config_file.stat().st_mtime_ns)
+    path = Path(config_file).resolve()
+    return copy.deepcopy(_load(path, path.read_bytes()))  # a copy: the cached one stays as the file says
+
+
+def course_config(folder: str | Path) -> Config:
+    """Everything ``folder/nbgrader_config.py`` configures (:func:`read_config`)."""
+    return read_config(Path(folder) / CONFIG_FILE)
 
 
 @functools.lru_cache(maxsize=16)
-def _load(config_file: Path, mtime_ns: int) -> Config:
+def _load(config_file: Path, content: bytes) -> Config:
     from traitlets.config.loader import PyFileConfigLoader
 
     try:

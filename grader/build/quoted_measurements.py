@@ -17,6 +17,8 @@ __all__ = ["MEASURED", "quoted_measurements", "unprinted_quotes"]
 
 #: A measured number in a text cell; the quote is the span's text (at most 40 characters).
 MEASURED = re.compile(r'<span class="measured">([^<]{1,40})</span>')
+#: A number in the printed outputs (minus signs already made ``−``).
+_NUMBER = re.compile(r"[−+]?\d+(?:\.\d+)?")
 
 
 def quoted_measurements(nb: nbformat.NotebookNode) -> list[tuple[int, str]]:
@@ -56,8 +58,6 @@ def unprinted_quotes(nb: nbformat.NotebookNode) -> list[str]:
             problems.append(f"cell {i + 1} quotes {quote}, which no cell prints{_closest(quote, numbers)}")
     return problems
 
-
-_NUMBER = re.compile(r"[−+]?\d+(?:\.\d+)?")
 
 
 def _closest(quote: str, numbers: list[float]) -> str:

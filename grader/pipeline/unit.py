@@ -246,12 +246,12 @@ def verify_outputs(unit: Unit) -> None:
     """Step 5: judge each function's collected outputs against the reference (:mod:`grader.pipeline.verify`)."""
     spec, nb, run = unit.spec, unit.sanitized.nb, unit.run
     failed_defs = {fn: i for i, _ in run.cell_failures.items() for fn in _defined(nb.cells[i])}
+    outputs = unit.ws.work / "outputs"
     for cell in unit.cells:
         if cell.function in unit.broken:
             unit.tests.append({"grade_id": cell.grade_id, "function": cell.function, "points": cell.points,
                                "score": 0.0, "summary": unit.broken[cell.function], "cases": []})
             continue
-        outputs = unit.ws.work / "outputs"
         result, collected = _verified(cell.function, spec.seed, outputs, run.collection_failures.get(cell.function), spec.assignment)
         if cell.function in failed_defs and result.cases and all(
                 (c.error or "").startswith(f"NameError: {cell.function} is not defined") for c in result.cases):

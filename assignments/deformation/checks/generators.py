@@ -107,6 +107,21 @@ def mixed_orientation(F: np.ndarray, rng: np.random.Generator) -> np.ndarray:
 
 
 
+def bad_handle_sets(handles: np.ndarray, n: int) -> list[tuple[str, np.ndarray]]:
+    """``(what, handles)`` that a precomputation's contract refuses with a ``ValueError``: none, one repeated, one out of range.
+
+    Parameters
+    ----------
+    handles : (h,) int, h >= 3
+        Valid handles of a mesh of ``n`` vertices.
+    """
+    return [
+        ("no handle", np.zeros(0, dtype=np.int64)),
+        ("a handle repeated", np.r_[handles[:3], handles[:1]]),
+        ("a handle out of range", np.r_[handles[:3], n]),
+    ]
+
+
 def unsorted_order(rng: np.random.Generator, items) -> np.ndarray:
     """``items`` (a 1-D array, or a count ``k`` for ``range(k)``) in random order, never ascending when there are two or more.
 

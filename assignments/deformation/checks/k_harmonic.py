@@ -16,7 +16,7 @@ from grader.checks.base import Case, FunctionChecks, Ref, Step, as_array, as_mat
 from starter import shapes
 
 from . import reference
-from .generators import disjoint_union, jittered_grid, random_rotation, relabel, unsorted_order
+from .generators import bad_handle_sets, disjoint_union, jittered_grid, random_rotation, relabel, unsorted_order
 from .verdicts import sparse_verdict
 
 #: Relative tolerance of ``Q_k`` (products of sparse matrices: rounding only).
@@ -182,15 +182,14 @@ class KHarmonicPrecomputeChecks(FunctionChecks):
     description = "the precomputed data serves two solves in a row, handles in any order; bad handles raise ValueError"
 
     def cases(self, rng):
-        cases = []
-        for label, _, Q, handles, D_h, _ in _solve_cases(rng)[::2]:
+        cases, solves = [], _solve_cases(rng)
+        for label, _, Q, handles, D_h, _ in solves[::2]:
             D2 = rng.normal(0.0, 0.3, D_h.shape)
             steps = [Step("k_harmonic_precompute", (Q, handles)), Step("k_harmonic_solve", (Ref(0), D_h)),
                      Step("k_harmonic_solve", (Ref(0), D2))]
             cases.append(Case(f"{label}: two solves with one precomputation", steps, {"D_h": D2}))
-        _, _, Q, handles, _, _ = _solve_cases(rng)[0]
-        for what, bad in (("no handle", np.zeros(0, dtype=np.int64)), ("a handle repeated", np.r_[handles[:3], handles[:1]]),
-                          ("a handle out of range", np.r_[handles[:3], len(Q)])):
+        _, _, Q, handles, _, _ = solves[0]
+        for what, bad in bad_handle_sets(handles, len(Q)):
             cases.append(raises(f"the 2D strip with {what}", [Step("k_harmonic_precompute", (Q, bad))]))
         return cases
 

@@ -25,7 +25,7 @@ from grader.checks.base import (
     raises,
     verdict,
 )
-from .generators import random_rotation
+from .generators import bad_handle_sets, random_rotation
 from starter.meshes import load_mesh
 
 #: Relative tolerance of the direct formulas (one 3x3 inverse per tetrahedron).
@@ -391,11 +391,7 @@ class TetArapPrecomputeChecks(FunctionChecks):
             cases.append(Case(f"{label}: two global steps with one precomputation", steps, {"R": R2, "P": P2}))
         # The contract's promise: a ValueError if handles is empty, repeats a vertex or is out of range.
         V, T, handles, _, _ = next(iter(scenes.values()))
-        for label, bad in (
-            ("no handle", np.zeros(0, dtype=np.int64)),
-            ("a handle repeated", np.r_[handles[:3], handles[:1]]),
-            ("a handle out of range", np.r_[handles[:3], len(V)]),
-        ):
+        for label, bad in bad_handle_sets(handles, len(V)):
             cases.append(raises(f"the volumetric bar with {label}", [Step("tet_arap_precompute", (V, T, bad))]))
         return cases
 
