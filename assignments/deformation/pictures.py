@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from grader.pipeline.feedback import pair_figure, picture
-from grader.pipeline.feedback_view import deformation_view, weights_view
+from grader.pipeline.feedback_view import deformation_view, student_array, weights_view
 
 PICTURED = ("k_harmonic_solve", "arap_solve", "laplacian_editing", "bbw", "unconstrained_biharmonic_weights")
 
@@ -69,7 +69,7 @@ def view(function: str, case, value, expected) -> dict | None:
     """
     if function == "k_harmonic_solve":
         V, F = case.context["mesh"]
-        got = _displacements(value, V.shape)
+        got = student_array(value, V.shape)
         handles = np.asarray(case.steps[0].args[1], np.int64)
         return deformation_view(V, F, handles, None if got is None else V + got, V + np.asarray(expected, float))
     args = case.steps[0].args
@@ -86,19 +86,10 @@ def view(function: str, case, value, expected) -> dict | None:
     return None
 
 
-def _displacements(value, shape: tuple) -> np.ndarray | None:
-    """The student's displacements as a finite float array of ``shape``, else None (the output is hostile)."""
-    try:
-        D = np.asarray(value, dtype=float)
-    except (TypeError, ValueError, OverflowError):
-        return None
-    return D if D.shape == shape and np.all(np.isfinite(D)) else None
-
-
 def _k_harmonic_solve(case, value, expected) -> list[dict]:
     """The student's deformed mesh ``V + D`` beside the reference's (the mesh is kept in the case's context)."""
     V, F = case.context["mesh"]
-    D, D_ref = _displacements(value, V.shape), np.asarray(expected, float)
+    D, D_ref = student_array(value, V.shape), np.asarray(expected, float)
     if D is None:
         return []
     pics = [picture(

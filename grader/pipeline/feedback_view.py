@@ -81,7 +81,7 @@ def _too_large(V: np.ndarray, F: np.ndarray) -> dict | None:
                        f"({VERTEX_BUDGET:,} vertices, {FACE_BUDGET:,} triangles); the picture above shows it whole."}
 
 
-def _student_array(value, shape: tuple[int, int]) -> np.ndarray | None:
+def student_array(value, shape: tuple[int, int]) -> np.ndarray | None:
     """The student's output as a finite real array of ``shape``, or None (strings, NaN, complex, wrong shape...)."""
     if isinstance(value, np.ndarray) and value.dtype.kind not in "biuf":
         return None
@@ -195,7 +195,7 @@ def deformation_view(V: np.ndarray, F: np.ndarray, handles: np.ndarray, got, U_r
     if (skipped := _too_large(V, F)) is not None:
         return skipped
     n, d = V.shape
-    U = _student_array(got, (n, d))
+    U = student_array(got, (n, d))
     if U is None:
         return _unreadable((n, d))
     distance = np.linalg.norm(U - U_ref, axis=1)
@@ -275,7 +275,7 @@ def weights_view(V: np.ndarray, F: np.ndarray, groups: list[np.ndarray], got, W_
     if (skipped := _too_large(V, F)) is not None:
         return skipped
     n, m = W_ref.shape
-    W = _student_array(got, (n, m))
+    W = student_array(got, (n, m))
     if W is None:
         return _unreadable((n, m))
     gap = np.abs(W - W_ref)

@@ -159,7 +159,7 @@ HOSTILE = {
 
 
 @pytest.mark.parametrize("kind", HOSTILE)
-@pytest.mark.parametrize("function", ["laplacian_editing", "bbw"])
+@pytest.mark.parametrize("function", ["laplacian_editing", "bbw", "k_harmonic_solve"])
 def test_a_student_output_holding_strings_or_nan_gets_no_view(function, kind):
     cases, expected = hidden_cases(function, SEED)
     case, ref = cases[0], expected[0]
