@@ -341,7 +341,7 @@ for k, D in solutions.items():
     print(f"k = {k}: lift at x = 1, 2, 3: {profile[9]:.2f}, {profile[19]:.2f}, {profile[29]:.2f}; "
           f"slope next to the left end {slope[0] / 0.25:.2f} x the average, next to the right end {slope[-1] / 0.25:.2f} x")
 plotting.show_meshes([(V + solutions[1], F, solutions[1][:, 2]), (V + solutions[2], F, solutions[2][:, 2])],
-                     titles=["k = 1 (harmonic): lift", "k = 2 (biharmonic): lift"], label="lift (z displacement)", clim=(0.0, 1.0))
+                     titles=["k = 1 (harmonic), left end fixed, right end lifted by 1", "k = 2 (biharmonic), same handles"], label="lift (z displacement)", clim=(0.0, 1.0))
 
 # %% [markdown]
 # Harmonic displacements spread like heat along a rod: the lift grows almost
@@ -403,7 +403,7 @@ for name, X in (("biharmonic", biharmonic), ("ARAP", arap)):
     print(f"{name:>10}: triangle areas x {change.min():.2f} to x {change.max():.2f} (1 % of them below x "
           f"{np.percentile(change, 1):.2f}); centre line {centre_line_length(X):.2f} long")
 plotting.show_meshes([(biharmonic, F, igl.doublearea(biharmonic, F) / area_rest), (arap, F, igl.doublearea(arap, F) / area_rest)],
-                     titles=["k = 2 (biharmonic), right end turned by 90°", "ARAP, same handles"],
+                     titles=["k = 2 (biharmonic), left end fixed, right end turned by 90°", "ARAP (libigl, converged), same handles"],
                      label="area change (deformed / rest)", clim=(0.0, 2.0), cmap="coolwarm")
 
 # %% [markdown]
