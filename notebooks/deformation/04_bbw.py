@@ -436,7 +436,8 @@ print(f"on the character itself, {np.mean(inside < 0.5):.0%} of the vertices hav
 
 # %% [markdown]
 # Every weight tends to $1/m = 0.2$, and slowly: $r$ times the largest
-# difference levels off (the last column), so the difference shrinks like
+# difference levels off (the last column: <span class="measured">0.2986</span>, <span class="measured">0.2085</span>, <span class="measured">0.1912</span>,
+# <span class="measured">0.1873</span> for $r$ = 1, 4, 16, 64 heights), so the difference shrinks like
 # $1/r$. Expanding $\|x - h_j\|^{-2}$ for $\|x\| = r$ much larger than the handles'
 # spread gives $w_j \approx \frac1m + \frac2m\,\frac{\hat x \cdot (h_j - \bar h)}{r}$
 # ($\hat x$ the direction, $\bar h$ the handles' mean): the leading correction
@@ -684,6 +685,11 @@ plotting.show_weights(V, F, np.stack([W_idw[:, foot], W_unconstrained[:, foot], 
 plotting.show_weights(V, F, W_bbw, handles=[np.array([p]) for p in points], titles=[f"BBW: {name}" for name in point_names])
 
 # %% [markdown]
+# The print says it in numbers: the unconstrained weights leave $[0, 1]$ on both
+# sides (from <span class="measured">−0.016</span> to <span class="measured">1.036</span>), and <span class="measured">11.4</span>% of the vertices have a negative
+# weight for at least one handle; inverse-distance and bounded biharmonic
+# weights keep every weight in $[0, 1]$.
+#
 # Larger handles constrain more and the lobes grow. With the three region
 # handles (head, left foot, right foot) the unconstrained weight of the left
 # foot dips to about −0.1 over the whole right arm. Pull the left foot to the
@@ -704,6 +710,11 @@ plotting.show_meshes(
     [(V + w_unconstrained[:, None] * t, F, w_unconstrained), (V + w_bbw[:, None] * t, F, w_bbw)],
     titles=["unconstrained biharmonic", "bounded biharmonic"], label="weight of the left foot",
 )
+
+# %% [markdown]
+# The foot goes left, and with the unconstrained weights the right hand goes
+# *right* (by <span class="measured">+0.087</span>): a negative weight turns every handle motion
+# around. With the bounded weights it stays put (<span class="measured">+0.000</span>).
 
 # %% [markdown]
 # **Predict first.** A fork: two prongs side by side, 0.07 apart, joined only at
@@ -837,6 +848,11 @@ plotting.show_weights(V, F, W_mixed, handles=mixed, columns=[0, 1, 2],
                       titles=["BBW: point (right hand)", "BBW: bone (left arm)", "BBW: region (head)"])
 
 # %% [markdown]
+# The size of a handle shows in how much of the shape it dominates: a weight of
+# at least 0.5 on <span class="measured">9.0</span>% of the vertices for the point, <span class="measured">20.4</span>% for the bone and
+# <span class="measured">29.0</span>% for the region.
+
+# %% [markdown]
 # ## 9 · A cage
 #
 # A **cage** is a coarse polygon around the shape whose vertices are the handles.
@@ -887,8 +903,8 @@ plotting.show_meshes(
 )
 
 # %% [markdown]
-# The outline stays exactly straight: on it the weights are the constrained
-# linear hats. The middle line bends (by <span class="measured">0.0201</span>), because inside the square
+# The outline stays exactly straight (it bends by <span class="measured">0.0000</span>): on it the weights are
+# the constrained linear hats. The middle line bends (by <span class="measured">0.0201</span>), because inside the square
 # the weights are not the bilinear coordinates (they differ by up to <span class="measured">0.078</span>): the
 # biharmonic energy and the bounds decide them, and nothing asks them to keep
 # lines straight. At true size the bend is invisible, which is why the right
