@@ -127,9 +127,9 @@ def test_the_library_policy_follows_the_first_text_and_every_tests_cell_checks_i
 def test_each_notebook_says_how_a_bug_is_charged_and_which_copied_functions_earn_nothing():
     from grader.build.source_notebook import grading_rules
 
-    arap = grading_rules(pack("deformation"), "03_arap", ["optimal_rotation", "cotangent_weights", "arap_precompute", "arap_global_step"])
+    arap = grading_rules(pack("deformation"), "03b_arap_global", ["optimal_rotation", "cotangent_weights", "arap_precompute", "arap_global_step"])
     assert "A bug is charged once." in arap
-    assert "(`optimal_rotation`) earn no points here" in arap
+    assert "(`optimal_rotation`, `cotangent_weights`) earn no points here" in arap
     assert "`arap_precompute` returns is your own design: it is checked through your own `arap_global_step`" in arap
     assert "earn no points here" not in grading_rules(pack("deformation"), "00_meshes", ["edges", "genus"])
 

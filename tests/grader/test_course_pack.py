@@ -34,13 +34,14 @@ def _pack(tmp_path: Path, manifest: str = MANIFEST) -> Path:
     return folder
 
 
-def test_the_deformation_pack_is_the_course_default_with_its_nine_stages_and_two_bonus_ones():
+def test_the_deformation_pack_is_the_course_default_with_its_ten_stages_and_two_bonus_ones():
     course = pack()
     assert course.name == "deformation"
-    assert course.stage_names == ("00_meshes", "01_shape_matching", "02_sign_correction", "02b_k_harmonic", "03_arap", "04_bbw",
-                                  "05_lbs", "06_fast", "07_tetrahedra")
+    assert course.stage_names == ("00_meshes", "01_shape_matching", "02_sign_correction", "02b_k_harmonic", "03_arap",
+                                  "03b_arap_global", "04_bbw", "05_lbs", "06_fast", "07_tetrahedra")
     assert [s.notebook for s in course.stages if s.bonus] == ["06_fast", "07_tetrahedra"]
-    assert course.stage_of("arap_rotations") == "03_arap" and course.is_bonus("06_fast") and not course.is_bonus("03_arap")
+    assert course.stage_of("arap_rotations") == "03_arap" and course.stage_of("arap_solve") == "03b_arap_global"
+    assert course.is_bonus("06_fast") and not course.is_bonus("03_arap") and not course.is_bonus("03b_arap_global")
     assert course.notebooks == (ROOT / "notebooks" / "deformation").resolve()
 
 

@@ -114,12 +114,12 @@ def public_test_failure(notebook: str, function: str, source: str) -> str:
         ("03_arap", "optimal_rotation", SINGLE_MATRIX_ROTATION, ("stack", "np.swapaxes", "[..., -1]")),
         ("03_arap", "cotangent_laplacian", WEIGHT_ON_AN_EDGE_THROUGH_ITS_CORNER, ("OPPOSITE corner k",)),
         ("03_arap", "cotangent_weights", WEIGHT_OF_THE_NEXT_CORNER, ("wrong columns", "AT corner k")),
-        ("03_arap", "arap_global_step", GLOBAL_STEP_WITHOUT_HANDLE_COLUMNS, ("handle columns are missing",)),
+        ("03b_arap_global", "arap_global_step", GLOBAL_STEP_WITHOUT_HANDLE_COLUMNS, ("handle columns are missing",)),
     ],
     ids=["02 transposed rotation", "01 transposed orthogonal map", "02 flipped the largest singular value",
          "02 one matrix only", "03 one matrix only", "03 weight on an edge through its corner",
          "03 weight in the next corner's column",
-         "03 global step without the handle columns"],
+         "03b global step without the handle columns"],
 )
 def test_a_common_mistake_gets_a_hint_that_names_it(notebook, function, source, words):
     message = public_test_failure(notebook, function, source)

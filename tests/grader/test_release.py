@@ -41,18 +41,18 @@ def released(tmp_path_factory):
 def test_the_release_passes_every_check(released):
     paths, report = released
     assert report.problems == []
-    assert set(report.points) == {"00_meshes", "01_shape_matching", "02_sign_correction", "02b_k_harmonic", "03_arap", "04_bbw", "05_lbs", "06_fast", "07_tetrahedra"}
+    assert set(report.points) == {"00_meshes", "01_shape_matching", "02_sign_correction", "02b_k_harmonic", "03_arap", "03b_arap_global", "04_bbw", "05_lbs", "06_fast", "07_tetrahedra"}
     assert all(p > 0 for p in report.points.values())
 
 
 @pytest.mark.slow
 def test_release_notebooks_keep_signatures_and_docstrings_but_no_solution(released):
     paths, _ = released
-    nb = nbformat.read(paths.release / "deformation" / "03_arap.ipynb", as_version=4)
+    nb = nbformat.read(paths.release / "deformation" / "03b_arap_global.ipynb", as_version=4)
     cell = next(c for c in nb.cells if (c.metadata.get("nbgrader") or {}).get("grade_id") == "solution_arap_solve")
     assert cell.source.count("def arap_solve(") == 1
     assert '"""' in cell.source and "raise NotImplementedError()" in cell.source
-    source = nbformat.read(paths.source / "deformation" / "03_arap.ipynb", as_version=4)
+    source = nbformat.read(paths.source / "deformation" / "03b_arap_global.ipynb", as_version=4)
     taught = next(c for c in source.cells if (c.metadata.get("nbgrader") or {}).get("grade_id") == "solution_arap_solve")
     body = [line.strip() for line in solution_body(taught.source).splitlines() if len(line.strip()) > 20]
     assert body and not any(line in cell.source for line in body)
@@ -63,7 +63,7 @@ def test_the_student_bundle_has_what_students_need_and_nothing_else(released):
     paths, _ = released
     with zipfile.ZipFile(paths.dist / "deformation-student.zip") as z:
         names = set(z.namelist())
-    for needed in ("deformation/03_arap.ipynb", "deformation/starter/plotting.py", "deformation/data/bar.npz",
+    for needed in ("deformation/03_arap.ipynb", "deformation/03b_arap_global.ipynb", "deformation/starter/plotting.py", "deformation/data/bar.npz",
                    "deformation/requirements.txt", "deformation/README.md", "deformation/check_notebook.py"):
         assert needed in names
     assert not any("/reference/" in n or "/grader/" in n or n.endswith("gradebook.db") for n in names)
@@ -124,10 +124,10 @@ def test_the_leak_scan_finds_a_pasted_reference_body():
 
 def test_the_leak_scan_finds_a_pasted_teaching_solution():
     teaching = teaching_bodies("deformation")
-    assert "teaching arap_solve (03_arap)" in teaching
-    pasted = "def f():\n" + "\n".join("    " + line for line in teaching["teaching arap_solve (03_arap)"].splitlines())
+    assert "teaching arap_solve (03b_arap_global)" in teaching
+    pasted = "def f():\n" + "\n".join("    " + line for line in teaching["teaching arap_solve (03b_arap_global)"].splitlines())
     problems = scan_for_leaks({"starter/helper.py": pasted}, teaching)
-    assert any("the code of teaching arap_solve (03_arap)" in p for p in problems)
+    assert any("the code of teaching arap_solve (03b_arap_global)" in p for p in problems)
 
 
 def test_the_leak_scan_ignores_public_input_checks():

@@ -1,4 +1,4 @@
-NOTEBOOK = "03_arap"
+NOTEBOOK = "03b_arap_global"
 DESCRIPTION = "arap_global_step() imposes the handles with a penalty weight of 1e8 instead of fixing their rows"
 SOLUTIONS = {
     "arap_global_step": '''import numpy as np

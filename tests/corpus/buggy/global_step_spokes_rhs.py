@@ -1,4 +1,4 @@
-NOTEBOOK = "03_arap"
+NOTEBOOK = "03b_arap_global"
 DESCRIPTION = "arap_global_step() uses the spokes-only right-hand side Σ_j ½ w_ij (R_i + R_j)(v_i - v_j) of Sorkine & Alexa"
 SOLUTIONS = {
     "arap_global_step": '''import numpy as np

@@ -1,4 +1,4 @@
-NOTEBOOK = "03_arap"
+NOTEBOOK = "03b_arap_global"
 DESCRIPTION = "laplacian_editing() uses the uniform (graph) Laplacian instead of the cotangent one"
 SOLUTIONS = {
     "laplacian_editing": '''import numpy as np

@@ -1,4 +1,4 @@
-NOTEBOOK = "03_arap"
+NOTEBOOK = "03b_arap_global"
 DESCRIPTION = "laplacian_editing() eliminates the handles with igl.min_quad_with_fixed instead of the global step it builds on"
 SOLUTIONS = {
     "laplacian_editing": '''import igl

@@ -1,4 +1,4 @@
-NOTEBOOK = "03_arap"
+NOTEBOOK = "03b_arap_global"
 DESCRIPTION = (
     "arap_precompute() keeps np.unique(handles) to drop repeats, which also sorts them: "
     "handle_positions then go to the wrong vertices unless the handles were given in ascending order"

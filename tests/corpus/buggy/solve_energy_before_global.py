@@ -1,4 +1,4 @@
-NOTEBOOK = "03_arap"
+NOTEBOOK = "03b_arap_global"
 DESCRIPTION = "arap_solve() records each iteration's energy before its global step (old positions, new rotations)"
 SOLUTIONS = {
     "arap_solve": '''import numpy as np

@@ -1,4 +1,4 @@
-NOTEBOOK = "03_arap"
+NOTEBOOK = "03b_arap_global"
 DESCRIPTION = "arap_solve() starts from U0 as given, without moving its handle rows to handle_positions first"
 SOLUTIONS = {
     "arap_solve": '''import numpy as np

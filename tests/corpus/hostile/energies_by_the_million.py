@@ -1,6 +1,6 @@
 import nbformat
 
-NOTEBOOK = "03_arap"
+NOTEBOOK = "03b_arap_global"
 DESCRIPTION = (
     "an added cell makes arap_solve return 3e7 energies for the first case the grader collects (240 MB, which the "
     "grader must neither load nor plot; every case would fill the student's own 512 MiB workdir)"

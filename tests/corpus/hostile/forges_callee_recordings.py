@@ -61,10 +61,7 @@ def cotangent_weights(V, F):
 ''',
 }
 # the forged collector answers every function's collection after cotangent_weights' cell has run
-LOSES = {
-    "cotangent_weights", "cotangent_laplacian", "arap_covariances", "arap_rotations", "arap_energy",
-    "arap_precompute", "arap_global_step", "arap_solve", "laplacian_editing",
-}
+LOSES = {"cotangent_weights", "cotangent_laplacian", "arap_covariances", "arap_rotations", "arap_energy"}
 
 
 def CHECK(result, autograded, params):

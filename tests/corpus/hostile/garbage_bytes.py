@@ -8,7 +8,4 @@ def EDIT(nb):
 
 
 SOLUTIONS = {}
-LOSES = {
-    "cotangent_weights", "cotangent_laplacian", "arap_covariances", "arap_rotations",
-    "arap_energy", "arap_precompute", "arap_global_step", "arap_solve", "laplacian_editing",
-}
+LOSES = {"cotangent_weights", "cotangent_laplacian", "arap_covariances", "arap_rotations", "arap_energy"}
