@@ -182,7 +182,7 @@ def test_scores_on_the_cluster_equal_the_process_pool_scores(dask_run, pool_rows
 def test_feedback_pictures_show_the_functions_that_failed_only(course, pool_rows):
     # solve_energy_before_global loses arap_solve only: laplacian_editing, pictured too when it fails, passes.
     tmp = course[0]
-    page = (tmp / "out-pool" / "feedback" / "solve_energy_before_global" / "03_arap.html").read_text()
+    page = (tmp / "out-pool" / "feedback" / "solve_energy_before_global" / "03b_arap_global.html").read_text()
     assert "energy after each iteration" in page and "arap_solve" in page and "your deformed mesh (left)" in page
     assert "your edited mesh (left)" not in page  # laplacian_editing's picture: it passed
 

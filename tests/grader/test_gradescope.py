@@ -32,7 +32,7 @@ def test_results_json_has_one_test_per_checked_function(tmp_path, source_noteboo
     results = json.loads(run(root).read_text())
     tests = {t["name"]: t for t in results["tests"]}
     assert tests["02_sign_correction: optimal_rotation"]["score"] == tests["02_sign_correction: optimal_rotation"]["max_score"] > 0
-    assert tests["03_arap: arap_solve"]["score"] == 0, "a notebook not submitted earns nothing"
+    assert tests["03b_arap_global: arap_solve"]["score"] == 0, "a notebook not submitted earns nothing"
     bonus = tests["06_fast (bonus): fast_solve"]
     assert bonus["max_score"] == 0 and bonus["output"].startswith("bonus: up to"), "bonus points are Gradescope extra credit"
     assert all(t["visibility"] == "after_published" for t in results["tests"])
