@@ -13,7 +13,7 @@
 # %% [markdown]
 # # 03 · As-rigid-as-possible deformation: the energy and the local step
 #
-# *Workload: about WORKLOAD hours for 5 graded functions (10 points) and 1 written answer (an estimate for a student who attended the lecture).*
+# *Workload: about 4.2 hours for 5 graded functions (10 points) and 1 written answer (an estimate for a student who attended the lecture).*
 #
 # A user grabs a few *handles* of a shape, here the two ends of a bar, and moves
 # them. Every other vertex should follow so that the shape looks the same up
