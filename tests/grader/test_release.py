@@ -152,7 +152,7 @@ def test_the_bundles_readme_names_every_notebook_its_files_are_readable_and_its_
     assert {name for name, mode in modes.items() if mode & 0o044 != 0o044} == set(), "every file readable by group and others"
     stages = pack("deformation").stage_names
     first = readme.split("\n\n")[1]
-    assert first.split()[0] == "Nine" and len(stages) == 9 and all(f"`{s}`" in first for s in stages)
+    assert first.split()[0] == "Ten" and len(stages) == 10 and all(f"`{s}`" in first for s in stages)
     pins = dict(line.split("==") for line in (ROOT / "constraints.txt").read_text().splitlines()
                 if "==" in line and not line.startswith("#"))
     wanted = dict(line.split("==") for line in requirements.splitlines() if not line.startswith("#"))
