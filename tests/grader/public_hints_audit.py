@@ -53,6 +53,7 @@ HINTS: dict[str, tuple[tuple[str, ...], ...]] = {
     "cascade_laplacian_sign_in_fast": (("the diagonal has the wrong sign",),),
     "cascade_lbs_matrix_in_fast": (("the weight enters once",),),
     "cascade_sign_from_det_in_arap": (("det(S) = 0 says nothing",),),
+    "cascade_rotations_transposed_in_03b": (("you return Qᵀ",),),
     "cascade_sign_from_det_in_fast": (("det(S) = 0 says nothing",),),
     "centroid_ignores_weights": (("weights are ignored",),),
     "cot_not_halved": (("not ½cot",),),
