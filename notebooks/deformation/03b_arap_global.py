@@ -561,7 +561,7 @@ for _ in range(3):
 # whose values settle. It does not promise that the positions settle at a
 # minimum, nor how fast the energy gets there, nor which of several minima it
 # approaches: $E$ is not convex in $(x', R)$ together, and the answer depends on
-# where we start. Whether a run has arrived is something to *measure* (§5 does:
+# where we start. Whether a run has arrived is something to *measure* (§6 does:
 # the energy and the positions stop changing).
 #
 # **Your task.** `arap_solve(data, handle_positions, U0=None, iterations=10)`:
