@@ -35,11 +35,12 @@ from pathlib import Path
 import nbformat
 
 from grader.build.source_notebook import build_sources
-from grader.contract import ASSIGNMENT
 from tests.corpus import load_corpus, load_entry, student_notebook
 from grader.report.collusion import boilerplate, limited_collusion, rank_pairs, student_code
 
 ROOT = Path(__file__).resolve().parents[1]
+#: The course pack whose notebooks the synthetic class writes.
+ASSIGNMENT = "deformation"
 #: The notebook with the most functions and styles (10 functions: its four and the six it copies from 02 and
 #: 03; 30-33 styles each). 01_shape_matching's one-line functions leave too few distinct students: at 1,000
 #: students, 503 pairs of synthetic students who drew the same styles passed the threshold, a quadratic
@@ -262,7 +263,7 @@ def main() -> dict:
     sizes = [int(s) for s in os.environ.get("DEFORMLAB_BENCH_COLLUSION_SIZES", ",".join(map(str, SIZES))).split(",")]
     work = Path(tempfile.mkdtemp(prefix="dl-bench-collusion-"))
     try:
-        sources = {p.stem: p for p in build_sources(ROOT / "notebooks", work / "source", "deformation")}
+        sources = {p.stem: p for p in build_sources(work / "source", ASSIGNMENT)}
         figures: dict = {"notebooks": ", ".join(NOTEBOOKS)}
         for n in sizes:
             figures |= run(n, sources, work, check_exhaustive=n <= 100)
