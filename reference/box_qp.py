@@ -29,6 +29,13 @@ from starter.validation import as_float_array
 #   0.33, 0.7: 0.46 / 0.34, 1: 0.47 / 0.34 (the same within this machine's
 #   noise); 2: 0.61 / 0.39 (the character with bones pays for the solves); 0
 #   (always factor): the hand alone 0.82.
+# - WIDEN_MAX: the largest ring (a fraction of a column's free set) by which
+#   the predicted free set is widened (_widened). Factorizations, BBW family
+#   (square, U notch, comb, holes, bones, regions, L, hexagon, hand), 0 (never
+#   widen) -> 0.3: 22 -> 14, 42 -> 34, 81 -> 72, 33 -> 24, 43 -> 30, 28 -> 22,
+#   270 -> 230, 0 -> 0, 13 -> 13; CPU -27, -2, -5, -20, -13, -22, -8, 0, 0 %
+#   (3 alternating runs, busy machine). The hand's rings are 0.4-1.0 of its
+#   free sets: widened anyway (WIDEN_MAX 1.1) it took 29.
 # Tried and dropped: starting each column at the lower bound wherever an
 # earlier column came out at 1 (the partition of unity) raised the
 # factorizations of the L with 20 points from 270 to 323 and of the
@@ -38,6 +45,7 @@ ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
 ADMM_NEAR_BOUND = 0.1
 BORDER_BUDGET = 0.5
+WIDEN_MAX = 0.3
 
 # SymmetricMode with diagonal pivots: H is symmetric positive definite, and
 # SuperLU factors it far faster this way than with partial pivoting
@@ -86,12 +94,15 @@ def box_qp(H, G, tol=1e-9):
     keep the fill-reducing order of ``H``, computed once; a step whose free
     block differs from the last factored one by a few variables borders that
     factorization instead of factoring anew (a Schur-complement update).
-    Free components that nothing drives (a zero right-hand side: their
-    minimizer is 0) start at the lower bound instead of in the block. A
-    variable is released from its bound only when its multiplier is wrong by
-    more than half of ``tol``, and the iterations stop as soon as the KKT
-    conditions hold to ``tol``: the last steps of an exact active-set solver
-    only move variables within 1e-7 of a bound.
+    The predicted free sets start one ring of ``H``'s graph wider where that
+    ring is thin: the steps pin a free set too large in bulk, but grow one
+    too small only at its border, a ring per step. Free components that
+    nothing drives (a zero right-hand side: their minimizer is 0) start at
+    the lower bound instead of in the block. A variable is released from its
+    bound only when its multiplier is wrong by more than half of ``tol``, and
+    the iterations stop as soon as the KKT conditions hold to ``tol``: the
+    last steps of an exact active-set solver only move variables within 1e-7
+    of a bound.
     """
     if sp.issparse(H):
         H = sp.csc_matrix(H, dtype=np.float64)
@@ -170,6 +181,7 @@ def _solve(H, G, tol):
             at_lower, at_upper = _admm_active_sets(
                 H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale),
             )
+            at_lower, at_upper = _widened(H_ordered, at_lower, at_upper)
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
             X = np.empty((n, m))
             for j in range(m):
@@ -251,6 +263,28 @@ def _admm_active_sets(H, G, X_unconstrained, rho):
     # "Slightly" is relative to how far ADMM still moves (its last step).
     near = ADMM_NEAR_BOUND * np.abs(Z - Z_last).max(axis=0)
     return Z <= near, Z >= 1.0 - near
+
+
+def _widened(H, at_lower, at_upper):
+    """Free every bound variable that ``H`` couples to a free one, in each column where that ring is thin.
+
+    The active-set steps release a bound variable only once its multiplier
+    has the wrong sign, which happens next to the free set alone: a free set
+    predicted too small grows by about one ring of ``H``'s graph per step,
+    each step a new factorization. A free set predicted too large shrinks in
+    bulk instead (every free variable out of the box is pinned in the same
+    step). So each column starts one ring wider, unless that ring adds more
+    than ``WIDEN_MAX`` of its free set (a ring of a coarse mesh, where the
+    wider start costs more steps than it saves).
+
+    ``H`` ``(n, n)`` sparse; ``at_lower`` and ``at_upper`` ``(n, m)`` bool.
+    Returns the narrowed ``(at_lower, at_upper)``.
+    """
+    coupled = sp.csr_matrix((np.ones_like(H.data), H.indices, H.indptr), shape=H.shape)  # Hᵀ's pattern = H's
+    free = ~(at_lower | at_upper)
+    ring = ((coupled @ free.astype(np.float64)) > 0) & ~free
+    ring &= ring.sum(axis=0) <= WIDEN_MAX * free.sum(axis=0)
+    return at_lower & ~ring, at_upper & ~ring
 
 
 def _next_active_sets(lower, upper, below, above, release, seen, murty):
