@@ -374,3 +374,15 @@ def test_a_start_one_ring_wider_saves_factorizations_on_a_triangle_mesh_and_give
     for x, g in zip(X.T, G.T):
         assert kkt_residual(H, g, x) <= 1e-9
     np.testing.assert_allclose(X, X_narrow, atol=1e-7)
+
+
+def test_releasing_the_clearly_wrong_multipliers_first_saves_factorizations_and_gives_the_same_weights(monkeypatch):
+    """Fewer variables leave their bounds per step, so more steps border the last factorization."""
+    H, G = square_problem()
+    X, _, factorizations = solve_counting(monkeypatch, H, G)
+    monkeypatch.setattr(box_qp_module, "RELEASE_RANGE", 0.0)
+    X_all, _, factorizations_all = solve_counting(monkeypatch, H, G)
+    assert factorizations < factorizations_all
+    for x, g in zip(X.T, G.T):
+        assert kkt_residual(H, g, x) <= 1e-9
+    np.testing.assert_allclose(X, X_all, atol=1e-7)
