@@ -28,7 +28,11 @@ from starter.validation import as_float_array
 #   factorization costs about Σ cc² flops and a solve 4 Σ cc). 0.5: 0.45 /
 #   0.33, 0.7: 0.46 / 0.34, 1: 0.47 / 0.34 (the same within this machine's
 #   noise); 2: 0.61 / 0.39 (the character with bones pays for the solves); 0
-#   (always factor): the hand alone 0.82.
+#   (always factor): the hand alone 0.82. Since RELEASE_RANGE (steps that
+#   move fewer variables), 0.5 -> 1 took CPU on the family (the order of
+#   WIDEN_MAX's figures) -9, -13, -15, -4, -4, 0, +3, +1, -7 %, and in a
+#   second sweep the U notch -9, the comb -15, the bones +2, the regions 0,
+#   the hand -12 %; 1.5 was no better.
 # - WIDEN_MAX: the largest ring (a fraction of a column's free set) by which
 #   the predicted free set is widened (_widened). Factorizations, BBW family
 #   (square, U notch, comb, holes, bones, regions, L, hexagon, hand), 0 (never
@@ -49,7 +53,7 @@ ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
 ADMM_NEAR_BOUND = 0.1
-BORDER_BUDGET = 0.5
+BORDER_BUDGET = 1.0
 WIDEN_MAX = 0.3
 RELEASE_RANGE = 0.003
 
