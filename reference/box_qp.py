@@ -48,7 +48,20 @@ from starter.validation import as_float_array
 # Tried and dropped: starting each column at the lower bound wherever an
 # earlier column came out at 1 (the partition of unity) raised the
 # factorizations of the L with 20 points from 270 to 323 and of the
-# tetrahedral hand from 13 to 20 (cause not measured).
+# tetrahedral hand from 13 to 20 (cause not measured). Measured before
+# WIDEN_MAX: releasing, with each wrong multiplier, its bound neighbours in
+# H's graph took the factorizations from 43 to 58 (bones), 28 to 53
+# (regions), 13 to 27 (hand); widening by two rings, 43 to 46 (bones);
+# predicting the upper bound from ADMM's dual (U > 0) or from the trend of
+# its iterate changed nothing beyond noise. Stopping ADMM once its
+# predicted sets settle: they never do (2-7 % of the entries move every 5
+# steps, from 15 to 45 steps). Faster factorizations: SuperLU's
+# relax/panel_size change the 10k-vertex character's by under 10 %;
+# cholespy (CHOLMOD, its ordering included) factors it in 76 ms against
+# SuperLU's 32 ms, though it solves in half the time. With WIDEN_MAX,
+# RELEASE_RANGE and BORDER_BUDGET 1, 40 ADMM steps instead of 25: U notch
+# -28 %, comb -16 %, regions -7 %, but bones +11 % and the hand (the
+# worst member) +12 %.
 ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
