@@ -28,16 +28,47 @@ from starter.validation import as_float_array
 #   factorization costs about Σ cc² flops and a solve 4 Σ cc). 0.5: 0.45 /
 #   0.33, 0.7: 0.46 / 0.34, 1: 0.47 / 0.34 (the same within this machine's
 #   noise); 2: 0.61 / 0.39 (the character with bones pays for the solves); 0
-#   (always factor): the hand alone 0.82.
+#   (always factor): the hand alone 0.82. Since RELEASE_RANGE (steps that
+#   move fewer variables), 0.5 -> 1 took CPU on the family (the order of
+#   WIDEN_MAX's figures) -9, -13, -15, -4, -4, 0, +3, +1, -7 %, and in a
+#   second sweep the U notch -9, the comb -15, the bones +2, the regions 0,
+#   the hand -12 %; 1.5 was no better.
+# - WIDEN_MAX: the largest ring (a fraction of a column's free set) by which
+#   the predicted free set is widened (_widened). Factorizations, BBW family
+#   (square, U notch, comb, holes, bones, regions, L, hexagon, hand), 0 (never
+#   widen) -> 0.3: 22 -> 14, 42 -> 34, 81 -> 72, 33 -> 24, 43 -> 30, 28 -> 22,
+#   270 -> 230, 0 -> 0, 13 -> 13; CPU -27, -2, -5, -20, -13, -22, -8, 0, 0 %
+#   (3 alternating runs, busy machine). The hand's rings are 0.4-1.0 of its
+#   free sets: widened anyway (WIDEN_MAX 1.1) it took 29.
+# - RELEASE_RANGE: a step releases a bound variable only if its multiplier
+#   is wrong by at least this fraction of the worst one. Factorizations on
+#   the family as above, 0 -> 0.003: 14 -> 10, 34 -> 24, 72 -> 59, 24 -> 17,
+#   30 -> 23, 22 -> 16, 230 -> 172, 0 -> 0, 13 -> 13; CPU -7, -15, -9, -13,
+#   0, -23, -10, 0, 0 % (3 alternating runs). 0.0003-0.03 within noise.
 # Tried and dropped: starting each column at the lower bound wherever an
 # earlier column came out at 1 (the partition of unity) raised the
 # factorizations of the L with 20 points from 270 to 323 and of the
-# tetrahedral hand from 13 to 20 (cause not measured).
+# tetrahedral hand from 13 to 20 (cause not measured). Measured before
+# WIDEN_MAX: releasing, with each wrong multiplier, its bound neighbours in
+# H's graph took the factorizations from 43 to 58 (bones), 28 to 53
+# (regions), 13 to 27 (hand); widening by two rings, 43 to 46 (bones);
+# predicting the upper bound from ADMM's dual (U > 0) or from the trend of
+# its iterate changed nothing beyond noise. Stopping ADMM once its
+# predicted sets settle: they never do (2-7 % of the entries move every 5
+# steps, from 15 to 45 steps). Faster factorizations: SuperLU's
+# relax/panel_size change the 10k-vertex character's by under 10 %;
+# cholespy (CHOLMOD, its ordering included) factors it in 76 ms against
+# SuperLU's 32 ms, though it solves in half the time. With WIDEN_MAX,
+# RELEASE_RANGE and BORDER_BUDGET 1, 40 ADMM steps instead of 25: U notch
+# -28 %, comb -16 %, regions -7 %, but bones +11 % and the hand (the
+# worst member) +12 %.
 ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
 ADMM_NEAR_BOUND = 0.1
-BORDER_BUDGET = 0.5
+BORDER_BUDGET = 1.0
+WIDEN_MAX = 0.3
+RELEASE_RANGE = 0.003
 
 # SymmetricMode with diagonal pivots: H is symmetric positive definite, and
 # SuperLU factors it far faster this way than with partial pivoting
@@ -86,12 +117,15 @@ def box_qp(H, G, tol=1e-9):
     keep the fill-reducing order of ``H``, computed once; a step whose free
     block differs from the last factored one by a few variables borders that
     factorization instead of factoring anew (a Schur-complement update).
-    Free components that nothing drives (a zero right-hand side: their
-    minimizer is 0) start at the lower bound instead of in the block. A
-    variable is released from its bound only when its multiplier is wrong by
-    more than half of ``tol``, and the iterations stop as soon as the KKT
-    conditions hold to ``tol``: the last steps of an exact active-set solver
-    only move variables within 1e-7 of a bound.
+    The predicted free sets start one ring of ``H``'s graph wider where that
+    ring is thin: the steps pin a free set too large in bulk, but grow one
+    too small only at its border, a ring per step. Free components that
+    nothing drives (a zero right-hand side: their minimizer is 0) start at
+    the lower bound instead of in the block. A variable is released from its
+    bound only when its multiplier is wrong by more than half of ``tol`` and
+    by at least RELEASE_RANGE of the step's worst, and the iterations stop as soon as the KKT conditions hold to ``tol``: the
+    last steps of an exact active-set solver only move variables within 1e-7
+    of a bound.
     """
     if sp.issparse(H):
         H = sp.csc_matrix(H, dtype=np.float64)
@@ -170,6 +204,7 @@ def _solve(H, G, tol):
             at_lower, at_upper = _admm_active_sets(
                 H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale),
             )
+            at_lower, at_upper = _widened(H_ordered, at_lower, at_upper)
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
             X = np.empty((n, m))
             for j in range(m):
@@ -251,6 +286,28 @@ def _admm_active_sets(H, G, X_unconstrained, rho):
     # "Slightly" is relative to how far ADMM still moves (its last step).
     near = ADMM_NEAR_BOUND * np.abs(Z - Z_last).max(axis=0)
     return Z <= near, Z >= 1.0 - near
+
+
+def _widened(H, at_lower, at_upper):
+    """Free every bound variable that ``H`` couples to a free one, in each column where that ring is thin.
+
+    The active-set steps release a bound variable only once its multiplier
+    has the wrong sign, which happens next to the free set alone: a free set
+    predicted too small grows by about one ring of ``H``'s graph per step,
+    each step a new factorization. A free set predicted too large shrinks in
+    bulk instead (every free variable out of the box is pinned in the same
+    step). So each column starts one ring wider, unless that ring adds more
+    than ``WIDEN_MAX`` of its free set (a ring of a coarse mesh, where the
+    wider start costs more steps than it saves).
+
+    ``H`` ``(n, n)`` sparse; ``at_lower`` and ``at_upper`` ``(n, m)`` bool.
+    Returns the narrowed ``(at_lower, at_upper)``.
+    """
+    coupled = sp.csr_matrix((np.ones_like(H.data), H.indices, H.indptr), shape=H.shape)  # Hᵀ's pattern = H's
+    free = ~(at_lower | at_upper)
+    ring = ((coupled @ free.astype(np.float64)) > 0) & ~free
+    ring &= ring.sum(axis=0) <= WIDEN_MAX * free.sum(axis=0)
+    return at_lower & ~ring, at_upper & ~ring
 
 
 def _next_active_sets(lower, upper, below, above, release, seen, murty):
@@ -521,6 +578,12 @@ def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
         residual = np.where(clipped <= 0, np.minimum(gradient, 0.0), np.where(clipped >= 1, np.maximum(gradient, 0.0), gradient))
         if np.abs(residual).max() <= tol_kkt:
             return clipped
+        if release.any():
+            # the clearly wrong multipliers first: fewer variables move per
+            # step, and more steps border the last factorization instead of
+            # factoring anew (on a 2D square: 25 steps instead of 20, 8
+            # factorizations instead of 11)
+            release &= np.abs(gradient) >= RELEASE_RANGE * np.abs(gradient[release]).max()
         lower, upper, murty = _next_active_sets(lower, upper, below, above, release, seen, murty)
     raise RuntimeError(
         f"box_qp: the active-set solver did not converge in {max_iter} iterations "

@@ -1,5 +1,6 @@
 from contextlib import contextmanager
 
+import igl.triangle
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -325,3 +326,63 @@ def test_idle_islands_left_out_of_the_free_blocks_give_the_same_weights_from_sma
     for x, g in zip(X.T, G.T):
         assert kkt_residual(H, g, x) <= 1e-9
     np.testing.assert_allclose(X, X_islands, atol=1e-7)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seeds, st.integers(2, 60), st.integers(1, 3), st.floats(0.0, 2.0))
+def test_widened_starts_free_exactly_the_bound_variables_coupled_to_a_free_one_in_columns_with_a_thin_ring(
+    seed, n, m, widen_max,
+):
+    rng = np.random.default_rng(seed)
+    A = sp.random(n, n, density=2.0 / n, random_state=rng, format="csc")
+    H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+    state = rng.integers(0, 3, size=(n, m))  # 0 free, 1 lower, 2 upper
+    at_lower, at_upper = state == 1, state == 2
+    original = box_qp_module.WIDEN_MAX
+    box_qp_module.WIDEN_MAX = widen_max
+    try:
+        lower, upper = box_qp_module._widened(H, at_lower.copy(), at_upper.copy())
+    finally:
+        box_qp_module.WIDEN_MAX = original
+    coupled = H.toarray() != 0
+    for j in range(m):
+        free = ~(at_lower[:, j] | at_upper[:, j])
+        ring = coupled[:, free].any(axis=1) & ~free
+        expected = ring if ring.sum() <= widen_max * free.sum() else np.zeros(n, dtype=bool)
+        np.testing.assert_array_equal(lower[:, j], at_lower[:, j] & ~expected)
+        np.testing.assert_array_equal(upper[:, j], at_upper[:, j] & ~expected)
+
+
+def square_problem():
+    """BBW on a triangulated 2 x 2 square (~1,600 vertices) with three point handles: ``(H, G)``."""
+    corners = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+    V, F, *_ = igl.triangle.triangulate(corners, np.array([[0, 1], [1, 2], [2, 3], [3, 0]]), flags="pq30a0.002Q")
+    handles = [[int(np.argmin(np.linalg.norm(V - p, axis=1)))] for p in ([0.3, 0.3], [1.7, 0.5], [1.0, 1.7])]
+    b, bc = handle_constraints(handles)
+    free = np.setdiff1d(np.arange(len(V)), b)
+    Q = sp.csr_matrix(biharmonic_matrix(V, F))
+    return Q[free][:, free].tocsc(), -(Q[free][:, b] @ bc)
+
+
+def test_a_start_one_ring_wider_saves_factorizations_on_a_triangle_mesh_and_gives_the_same_weights(monkeypatch):
+    """The free sets then shrink in bulk rather than grow a ring per step; the tetrahedral hand's thick rings stay out."""
+    H, G = square_problem()
+    X, _, factorizations = solve_counting(monkeypatch, H, G)
+    monkeypatch.setattr(box_qp_module, "WIDEN_MAX", 0.0)
+    X_narrow, _, factorizations_narrow = solve_counting(monkeypatch, H, G)
+    assert factorizations < factorizations_narrow
+    for x, g in zip(X.T, G.T):
+        assert kkt_residual(H, g, x) <= 1e-9
+    np.testing.assert_allclose(X, X_narrow, atol=1e-7)
+
+
+def test_releasing_the_clearly_wrong_multipliers_first_saves_factorizations_and_gives_the_same_weights(monkeypatch):
+    """Fewer variables leave their bounds per step, so more steps border the last factorization."""
+    H, G = square_problem()
+    X, _, factorizations = solve_counting(monkeypatch, H, G)
+    monkeypatch.setattr(box_qp_module, "RELEASE_RANGE", 0.0)
+    X_all, _, factorizations_all = solve_counting(monkeypatch, H, G)
+    assert factorizations < factorizations_all
+    for x, g in zip(X.T, G.T):
+        assert kkt_residual(H, g, x) <= 1e-9
+    np.testing.assert_allclose(X, X_all, atol=1e-7)
