@@ -418,9 +418,9 @@ plotting.show_meshes(twisted, titles=["0°", "90°", "135°", "180°"])
 # weighted average of rotation matrices is not a rotation (rotations do not form
 # a linear space), and LBS averages matrices. Skinning methods that blend
 # rotations instead, such as dual-quaternion skinning (section 5), do not
-# collapse this way. ARAP reached in small steps (stage 03) collapses much less,
+# collapse this way. ARAP reached in small steps (stage 03b) collapses much less,
 # but it does shrink too: a surface has no volume to preserve, and a stepwise
-# 180° twist of the bar still narrows its middle (stage 03 measures by how much).
+# 180° twist of the bar still narrows its middle (stage 03b measures by how much).
 
 # %% [markdown]
 # **Question.** Partition of unity makes LBS reproduce every common motion

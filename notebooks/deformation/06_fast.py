@@ -760,7 +760,7 @@ if abs(_slope(_T, _R)) > 1e-6:
 # %% [markdown]
 # ## 6 · The solver
 #
-# Alternate the two steps as in stage 03. Start from `T0` (the identity
+# Alternate the two steps as in stage 03b. Start from `T0` (the identity
 # transforms, the rest pose, if `None`) with the fixed transforms put in place,
 # then repeat: local step on the current $T$, global step with those rotations,
 # record the energy of the new $T$ *with the rotations that step used*. The local

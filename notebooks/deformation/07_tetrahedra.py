@@ -314,7 +314,7 @@ assert abs(_M2 - 8.0 * _M).max() < 1e-12, "scaling the hand by 2 (and moving it)
 # every **inverted** tetrahedron ($\det J_t < 0$).
 #
 # **Global step.** For fixed $R$ the energy is quadratic in $\mathbf x'$: one sparse
-# solve with your tetrahedral Laplacian, derived below. As in stage 03, neither
+# solve with your tetrahedral Laplacian, derived below. As in stage 03b, neither
 # step can increase $E$.
 #
 # **Your tasks.** `deformation_gradients(V, U, T)` `(f, 3, 3)`;
@@ -469,7 +469,7 @@ assert tet_arap_energy(V_hand, _U, T_hand, tet_arap_rotations(V_hand, _U, T_hand
 # -L\,\mathbf x' = \mathbf b, \qquad b_i = \sum_{t \ni i} |\operatorname{vol}_t|\, R_t\, \nabla\varphi_i ,
 # $$
 #
-# rows of the `(n, 3)` arrays `U` and `B`. It is stage 03's system with a new
+# rows of the `(n, 3)` arrays `U` and `B`. It is stage 03b's system with a new
 # right-hand side: split free vertices $f$ from handles $h$ and solve
 # $(-L)_{ff}\, \mathbf x'_f = \mathbf b_f + L_{fh}\, \hat{\mathbf x}'_h$. $(-L)_{ff}$ depends neither on $R$
 # nor on where the handles go, so it is factorized once.
@@ -620,7 +620,7 @@ for _ in range(3):
 # %% [markdown]
 # The solver, built from your functions: `tet_arap` reaches the pose in `steps`
 # steps of `iterations` local–global iterations each, every step starting from
-# the last one's result (as in stage 03, with one rotation per tetrahedron
+# the last one's result (as in stage 03b, with one rotation per tetrahedron
 # instead of one per vertex).
 
 # %%
