@@ -360,7 +360,8 @@ def arap_precompute(V, F, handles):
         in the order ``[free, handles]``; ``rhs_moving``, the columns of
         ``rhs_operator`` of the moving cells (the others are zero);
         ``covariance_still``, the rows of the other cells and the handles'
-        columns (the others are zero).
+        columns (the others are zero); ``handle_fit``, the transposed
+        handles' columns of ``covariance_moving``, ``(h, d cells)``.
 
     Notes
     -----
@@ -445,6 +446,8 @@ def _moving_cells(G, F, free, handles, d):
         "covariance_moving": G_cells[:, np.concatenate([free, handles])].tocsc(),
         "rhs_moving": (G_cells[:, free].T / 3.0).tocsc(),
         "covariance_still": G[rows(still)][:, handles].tocsr(),
+        # Σ_moving tr(R_i S_i) = ⟨G_cellsᵀ R̃, U⟩: its handle rows (few: the cells at a handle region's rim)
+        "handle_fit": G_cells[:, handles].T.tocsr(),
     }
 
 
@@ -512,11 +515,16 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
     The local step uses ``data.covariance_operator`` instead of
     ``arap_covariances`` (same matrices, one sparse product) and, in 3D,
     ``cell_rotations_transposed`` instead of ``optimal_rotation`` (the same
-    rotations, to 1e-12 of the SVD's, transposed as the right-hand side needs them). The energy uses
-    ``E = 3 (Σ C ‖e'‖² + Σ C ‖e‖²) - 2 Σ_i tr(R_i S_i(U))`` with
-    ``Σ C ‖e'‖² = -tr(Uᵀ L U)``, and ``S(U_k)`` is the next local step's input.
-    ``-tr(Uᵀ L U)`` comes from the global step's own system
-    ``-L_ff U_f = b_R + L_fh U_h``: it is ``tr(U_fᵀ (b_R - L_fh U_h)) - tr(U_hᵀ L_hh U_h)``.
+    rotations, to 1e-12 of the SVD's, transposed as the right-hand side needs
+    them). The energy needs no covariances of the new positions: with the
+    stacked transposed rotations ``R̃`` and ``S = G U`` (``G`` the covariance
+    operator), ``E = 3 (Σ C ‖e'‖² + Σ C ‖e‖²) - 2 ⟨Gᵀ R̃, U⟩``,
+    ``Σ C ‖e'‖² = -tr(Uᵀ L U)``, and the global step's own system
+    ``-L_ff U_f = b`` with ``b = G_fᵀ R̃ / 3 + L_fh U_h`` turns both into
+    ``-tr(Uᵀ L U) = tr(U_fᵀ (b - 2 L_fh U_h)) - tr(U_hᵀ L_hh U_h)`` and
+    ``⟨Gᵀ R̃, U⟩ = 3 tr(U_fᵀ (b - L_fh U_h)) + ⟨G_hᵀ R̃, U_h⟩``, so
+    ``E = 3 Σ C ‖e‖² - 3 tr(U_hᵀ L_hh U_h) - 3 tr(U_fᵀ b) - 2 ⟨G_hᵀ R̃, U_h⟩``
+    (the cells inside handle regions keep their term through the solve).
     The energy agrees with ``arap_energy`` up to rounding relative to the
     Dirichlet energies (``~1e-15`` of ``3 Σ C (‖e'‖² + ‖e‖²)``).
     """
@@ -539,34 +547,32 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
     # U_p = U[[free, handles]]: the solve writes U_p's free block, a contiguous view, in place
     m, cells = data.free.size, data.moving_cells.size
     U_p = np.concatenate([U[data.free], handle_positions])
+    U_f = U_p[:m]
     handle_rhs = data.L_free_handles @ handle_positions
     handle_dirichlet = np.einsum("ij,ij->", handle_positions, data.L_handles @ handle_positions)
     # the cells inside handle regions: one fit per solve (their covariances do not change)
     S_still = (data.covariance_still @ handle_positions).reshape(-1, d, d)
     still_fit = np.einsum("kij,kji->", optimal_rotation(S_still), S_still) if len(S_still) else 0.0
-    S = (data.covariance_moving @ U_p).reshape(cells, d, d)
+    # the energy's terms that stay through the solve (see the Notes)
+    constant = 3.0 * (data.rest_dirichlet - handle_dirichlet) - 2.0 * still_fit
     for k in range(int(iterations)):
         if cells:
+            S = (data.covariance_moving @ U_p).reshape(cells, d, d)
             # Rᵀ stacked: the rows (i, b) of the right-hand side's operand
             if d == 3:
                 Rt = cell_rotations_transposed(S).reshape(cells * d, d)
             else:
                 Rt = optimal_rotation(S).transpose(0, 2, 1).reshape(cells * d, d)
             rhs = data.rhs_moving @ Rt
+            handle_fit = np.einsum("ij,ij->", handle_positions, data.handle_fit @ Rt)
         else:
-            Rt, rhs = np.empty((0, d)), np.zeros((m, d))
-        # rhs = b_R + L_fh U_h, in place
+            rhs, handle_fit = np.zeros((m, d)), 0.0
+        # b = b_R + L_fh U_h, in place
         rhs += handle_rhs
         if m:
-            data.solver.solve_into(rhs, U_p[:m])
-        S = (data.covariance_moving @ U_p).reshape(cells, d, d)
-        # -Uᵀ L U from the solve's -L_ff U_f = b_R + L_fh U_h: U_fᵀ (b_R - L_fh U_h) - U_hᵀ L_hh U_h
+            data.solver.solve_into(rhs, U_f)
         # (einsum, not BLAS's dot: OpenBLAS's threads would spin on the other core)
-        U_f = U_p[:m]
-        dirichlet = np.einsum("ij,ij->", U_f, rhs) - 2.0 * np.einsum("ij,ij->", U_f, handle_rhs) - handle_dirichlet
-        # Σ_i tr(R_i S_i) = Σ_i Σ_ab (R_iᵀ)_ba (S_i)_ba
-        fit = np.einsum("i,i->", Rt.ravel(), S.ravel()) + still_fit
-        energies[k] = 3.0 * (dirichlet + data.rest_dirichlet) - 2.0 * fit
+        energies[k] = constant - 3.0 * np.einsum("ij,ij->", U_f, rhs) - 2.0 * handle_fit
     U[data.free] = U_p[:m]
     return U, energies
 
