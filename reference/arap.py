@@ -264,8 +264,9 @@ def _polar_rotations_transposed(X, Rt):
     lam = np.sqrt(1.0 + 2.0 * np.sqrt(3.0 * b))
     lam = np.sqrt(1.0 + 2.0 * np.sqrt(b + 2.0 * np.abs(det) * lam))
     b4, det8 = 4.0 * b, 8.0 * det
-    # three Newton steps reach rounding on the ARAP stacks; the trust test runs from then on
-    for step in range(16):
+    # three Newton steps reach rounding on the ARAP stacks; the trust test runs from then on. Those
+    # not trusted after eight are near a double root (strongly stretched cells), where it crawls: SVD.
+    for step in range(9):
         l2a = lam * lam - 1.0
         p = l2a * l2a - b4 - det8 * lam
         dp = 4.0 * lam * l2a - det8
@@ -273,7 +274,7 @@ def _polar_rotations_transposed(X, Rt):
             dp2 = dp * dp
             trusted = 256.0 * (np.abs(p) + 5e-15) < 1e-12 * dp2
             # p' only decreases towards the root: below 1.28 a matrix can never be trusted
-            if (trusted | (dp2 < 1.28)).all():
+            if step == 8 or (trusted | (dp2 < 1.28)).all():
                 break
         # from above, Newton never overshoots the largest root: a floored p' only shortens the step
         lam -= p / np.maximum(dp, 0.01)

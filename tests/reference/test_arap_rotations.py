@@ -170,5 +170,9 @@ def test_the_polar_formula_matches_the_svd_on_arap_covariances(mesh, noise, seed
     rng = np.random.default_rng(seed)
     S = arap_covariances(V, deformed(V, rng, noise), F, cotangent_weights(V, F))
     R_svd, gap = svd_rotations(S)
-    assert (gap > 1e-3).all()
-    np.testing.assert_allclose(np.swapaxes(cell_rotations_transposed(S), 1, 2), R_svd, rtol=0, atol=1e-12)
+    R = np.swapaxes(cell_rotations_transposed(S), 1, 2)
+    # noise 1 scrambles the mesh: a few cells' rotations are then ill-determined
+    determined = gap > 1e-3
+    np.testing.assert_allclose(R[determined], R_svd[determined], rtol=0, atol=1e-12)
+    best = np.einsum("kij,kji->k", R_svd, S)
+    np.testing.assert_allclose(np.einsum("kij,kji->k", R, S), best, rtol=0, atol=1e-12 * np.abs(S).max())
