@@ -68,13 +68,20 @@ def _handle_sets(handle_sets, n):
 
 def _largest_rotation_traces(cells):
     """``max over rotations R of tr(R S)`` for every ``S`` of an ``(n, 3, 3)`` stack (see ``ArapWidget.arap_energy``)."""
-    size = np.sqrt(np.einsum("nab,nab->n", cells, cells))
-    unit = cells / np.where(size > 0, size, 1.0)[:, None, None]
-    rows = unit.transpose(1, 0, 2)
-    cofactors = np.stack([np.cross(rows[1], rows[2]), np.cross(rows[2], rows[0]), np.cross(rows[0], rows[1])])
-    det = np.einsum("na,na->n", rows[0], cofactors[0])
-    cof2 = np.einsum("knb,knb->n", cofactors, cofactors)
-    lam = np.full(len(cells), np.sqrt(3.0))
+    # entry-major (3, 3, n): every pass below runs over contiguous rows, half the time of (n, 3) slices
+    entries = cells.reshape(-1, 9).T.copy()
+    size = np.sqrt(np.einsum("in,in->n", entries, entries))
+    entries /= np.where(size > 0, size, 1.0)
+    rows = entries.reshape(3, 3, -1)
+    # cofactor row a = row a+1 x row a+2 (indices mod 3)
+    cofactors = np.empty_like(rows)
+    for a in range(3):
+        u, v = rows[(a + 1) % 3], rows[(a + 2) % 3]
+        for b in range(3):
+            np.subtract(u[(b + 1) % 3] * v[(b + 2) % 3], u[(b + 2) % 3] * v[(b + 1) % 3], out=cofactors[a, b])
+    det = np.einsum("an,an->n", rows[0], cofactors[0])
+    cof2 = np.einsum("abn,abn->n", cofactors, cofactors)
+    lam = np.full(len(size), np.sqrt(3.0))
     for _ in range(60):
         square = lam * lam - 1.0
         slope = 4.0 * lam * square - 8.0 * det
