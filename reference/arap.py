@@ -208,11 +208,11 @@ def cell_rotations_transposed(S):
 
     Notes
     -----
-    For the SVD ``S = U Σ Ṽᵀ``, let ``σ₃`` carry the sign of ``det S`` and
+    For the SVD ``S = U Σ Ũᵀ``, let ``σ₃`` carry the sign of ``det S`` and
     ``I₁ = σ₁ + σ₂ + σ₃``, ``I₂ = σ₁σ₂ + σ₁σ₃ + σ₂σ₃``, ``I₃ = σ₁σ₂σ₃ = det S``.
-    ``S``, ``cof S`` and ``S Sᵀ S`` are ``U diag(f(σ)) Ṽᵀ`` for ``f(σ) = σ,
+    ``S``, ``cof S`` and ``S Sᵀ S`` are ``U diag(f(σ)) Ũᵀ`` for ``f(σ) = σ,
     I₃/σ, σ³``, and by Cayley-Hamilton ``(I₁² - I₂) σ + I₁ I₃/σ - σ³ = I₁ I₂ - I₃``
-    at each ``σᵢ``, so ``Rᵀ = U D Ṽᵀ = ((I₁² - I₂) S + I₁ cof S - S Sᵀ S) / (I₁ I₂ - I₃)``
+    at each ``σᵢ``, so ``Rᵀ = U D Ũᵀ = ((I₁² - I₂) S + I₁ cof S - S Sᵀ S) / (I₁ I₂ - I₃)``
     with ``D = diag(1, 1, sign det S)``, the lecture's sign correction. ``I₁`` is
     the best trace, the largest root ``λ`` of Horn's quartic
     ``(λ² - ‖S‖²)² - 8 λ det S - 4 ‖cof S‖²`` (as in ``optimal_rotation``),
@@ -222,8 +222,8 @@ def cell_rotations_transposed(S):
     ``λ`` moves ``Rᵀ``'s entries by less than ``7 δ / (I₁ I₂ - I₃)``; a matrix
     whose bound ``256 (|p| + 5e-15) / p'²`` (rounding of ``p`` included) is
     below ``1e-12`` is trusted, the others (the denominator below ~0.14: rank
-    ≤ 1, or nearly a reflection with two equal small singular values) take the
-    SVD. About 30% less time than ``optimal_rotation``'s quaternion
+    ≤ 1, strongly stretched cells, or nearly a reflection with two equal small
+    singular values) take the SVD. About 30% less time than ``optimal_rotation``'s quaternion
     eigenvector on the ARAP local step's stacks (``benchmarks/bench_arap.py``).
     """
     k = len(S)
@@ -565,16 +565,16 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
             else:
                 Rt = optimal_rotation(S).transpose(0, 2, 1).reshape(cells * d, d)
             rhs = data.rhs_moving @ Rt
-            handle_fit = np.einsum("ij,ij->", handle_positions, data.handle_fit @ Rt)
+            rim_fit = np.einsum("ij,ij->", handle_positions, data.handle_fit @ Rt)
         else:
-            rhs, handle_fit = np.zeros((m, d)), 0.0
+            rhs, rim_fit = np.zeros((m, d)), 0.0
         # b = b_R + L_fh U_h, in place
         rhs += handle_rhs
         if m:
             data.solver.solve_into(rhs, U_f)
         # (einsum, not BLAS's dot: OpenBLAS's threads would spin on the other core)
-        energies[k] = constant - 3.0 * np.einsum("ij,ij->", U_f, rhs) - 2.0 * handle_fit
-    U[data.free] = U_p[:m]
+        energies[k] = constant - 3.0 * np.einsum("ij,ij->", U_f, rhs) - 2.0 * rim_fit
+    U[data.free] = U_f
     return U, energies
 
 
