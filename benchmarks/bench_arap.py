@@ -9,15 +9,18 @@ reported: on a loaded machine the CPU times are the steadier ones (both solvers
 run on one thread).
 
 The local step's rotation fit is timed on its own as well: the reference's
-``optimal_rotation`` against the textbook batched ``np.linalg.svd`` with the
-sign fix, on the ``(n, 3, 3)`` covariances of the solved bar.
+``optimal_rotation`` (Horn's quaternion), the iteration's
+``cell_rotations_transposed`` (the polar formula) and the textbook batched
+``np.linalg.svd`` with the sign fix, on the ``(n, 3, 3)`` covariances of the
+solved bar.
 
 The floor: what an iteration cannot go below with this factorization and
 this rotation fit, the two triangular solves with the prefactored matrix
 (``data.solver`` on one global step's right-hand side) plus the 3x3
-rotation fits an iteration makes (``optimal_rotation`` on the cells with a
-free vertex around them), each timed alone on the solved bar's inputs; the iteration's CPU time over it says how much the rest (sparse
-products, energy, bookkeeping) adds.
+rotation fits an iteration makes (``cell_rotations_transposed`` on the cells
+with a free vertex around them), each timed alone on the solved bar's
+inputs; the floor's share of the iteration's CPU time says how much the
+rest (two sparse products, energy, bookkeeping) adds.
 
 Run with ``.venv/bin/python -m benchmarks.bench_arap``.
 """
@@ -29,7 +32,7 @@ import time
 import igl
 import numpy as np
 
-from reference.arap import arap_precompute, arap_solve
+from reference.arap import arap_precompute, arap_solve, cell_rotations_transposed
 from reference.sign_correction import optimal_rotation
 from starter.shapes import bar
 
@@ -104,14 +107,17 @@ def main(iterations=ITERATIONS, runs=RUNS, precompute_runs=PRECOMPUTE_RUNS):
         ``ratio`` (median over runs of ours / igl per iteration, wall),
         ``ratio_min``, ``ratio_max``; the same with CPU time
         (``per_iteration_cpu_s``, ``igl_per_iteration_cpu_s``, ``ratio_cpu``,
-        ``ratio_cpu_min``, ``ratio_cpu_max``); ``rotations_cpu_s`` and
-        ``svd_rotations_cpu_s``, one local step's rotation fit (median);
+        ``ratio_cpu_min``, ``ratio_cpu_max``); ``rotations_cpu_s``,
+        ``polar_rotations_cpu_s`` and ``svd_rotations_cpu_s``, one local
+        step's rotation fit by ``optimal_rotation``, ``cell_rotations_transposed``
+        and the batched SVD (medians);
         ``moving_cells``, the cells with a free vertex in their one-ring
         (the others are fitted once per solve) and ``moving_rotations_cpu_s``,
         their rotation fit (median); ``triangular_solves_cpu_s``, one
         prefactored solve (median); ``floor_cpu_s``, the last two summed, and ``floor_cpu_s_range``, the spread
         of the per-run sums; ``iteration_over_floor`` (the iteration's median
-        CPU time over the floor) and ``floor_over_igl``;
+        CPU time over the floor), ``floor_share`` (its inverse: the fraction
+        of the floor the iteration reaches) and ``floor_over_igl``;
         ``max_diff_rel_diag``, the largest ``|U - U_igl|`` over the bounding
         box diagonal.
     """
@@ -139,19 +145,20 @@ def main(iterations=ITERATIONS, runs=RUNS, precompute_runs=PRECOMPUTE_RUNS):
     S = (data.covariance_operator @ U).reshape(n, d, d)
     # an iteration fits the cells with a free vertex around them (the others once per solve)
     S_moving = S[data.moving_cells]
-    rhs = data.rhs_operator @ optimal_rotation(S).transpose(0, 2, 1).reshape(n * d, d)
+    rhs = data.rhs_operator @ cell_rotations_transposed(S).reshape(n * d, d)
     rhs += data.L_free_handles @ target
     x = np.empty_like(rhs)
-    fit, fit_svd, solves, fit_all = [], [], [], []
+    fit, fit_svd, solves, fit_all, fit_polar = [], [], [], [], []
     for _ in range(max(runs, 3) * 4):
-        fit.append(timed(optimal_rotation, S_moving)[0])
+        fit.append(timed(cell_rotations_transposed, S_moving)[0])
         solves.append(timed(data.solver.solve_into, rhs, x)[0])
         if len(fit_svd) < runs:
             fit_all.append(timed(optimal_rotation, S)[0])
+            fit_polar.append(timed(cell_rotations_transposed, S)[0])
             fit_svd.append(timed(svd_rotations, S)[0])
     spread = np.array(fit)[:, 1] + np.array(solves)[:, 1]
     fit, fit_svd, solves = np.median(fit, axis=0), np.median(fit_svd, axis=0), np.median(solves, axis=0)
-    fit_all = np.median(fit_all, axis=0)
+    fit_all, fit_polar = np.median(fit_all, axis=0), np.median(fit_polar, axis=0)
     floor = fit[1] + solves[1]
 
     diag = float(np.linalg.norm(V.max(axis=0) - V.min(axis=0)))
@@ -175,6 +182,7 @@ def main(iterations=ITERATIONS, runs=RUNS, precompute_runs=PRECOMPUTE_RUNS):
         "ratio_cpu_min": float(ratios[:, 1].min()),
         "ratio_cpu_max": float(ratios[:, 1].max()),
         "rotations_cpu_s": float(fit_all[1]),
+        "polar_rotations_cpu_s": float(fit_polar[1]),
         "svd_rotations_cpu_s": float(fit_svd[1]),
         "moving_cells": int(data.moving_cells.size),
         "moving_rotations_cpu_s": float(fit[1]),
@@ -182,6 +190,7 @@ def main(iterations=ITERATIONS, runs=RUNS, precompute_runs=PRECOMPUTE_RUNS):
         "floor_cpu_s": float(floor),
         "floor_cpu_s_range": f"{spread.min():.4f}-{spread.max():.4f}",
         "iteration_over_floor": float(np.median(ours[:, 1]) / floor),
+        "floor_share": float(floor / np.median(ours[:, 1])),
         "floor_over_igl": float(floor / np.median(theirs[:, 1])),
         "max_diff_rel_diag": float(np.abs(U - U_igl).max() / diag),
     }
@@ -196,10 +205,12 @@ def main(iterations=ITERATIONS, runs=RUNS, precompute_runs=PRECOMPUTE_RUNS):
         print(f"  ratio reference / libigl, {label}: median {figures['ratio' + key]:.2f}, "
               f"range {figures['ratio' + key + '_min']:.2f}-{figures['ratio' + key + '_max']:.2f}")
     print(f"local step, {n} rotations, CPU (ms): optimal_rotation {1e3 * figures['rotations_cpu_s']:.1f}, "
+          f"cell_rotations_transposed {1e3 * figures['polar_rotations_cpu_s']:.1f}, "
           f"batched np.linalg.svd {1e3 * figures['svd_rotations_cpu_s']:.1f}")
-    print(f"floor, CPU (ms): the two triangular solves {1e3 * figures['triangular_solves_cpu_s']:.1f} + the rotation fits "
-          f"of the {figures['moving_cells']} cells with a free vertex {1e3 * figures['moving_rotations_cpu_s']:.1f} = {1e3 * floor:.1f} (range {figures['floor_cpu_s_range']} s); the iteration "
-          f"takes {figures['iteration_over_floor']:.2f}x the floor (the floor is {figures['floor_over_igl']:.2f} of libigl's iteration)")
+    print(f"floor on this machine, CPU (ms): the two triangular solves {1e3 * figures['triangular_solves_cpu_s']:.1f} + the rotation fits "
+          f"of the {figures['moving_cells']} cells with a free vertex {1e3 * figures['moving_rotations_cpu_s']:.1f} = {1e3 * floor:.1f} (range {figures['floor_cpu_s_range']} s); "
+          f"the iteration ({1e3 * figures['per_iteration_cpu_s']:.1f}) takes {figures['iteration_over_floor']:.2f}x the floor, "
+          f"so the floor is {100 * figures['floor_share']:.0f}% of it (and {figures['floor_over_igl']:.2f} of libigl's iteration)")
     print(f"max |U - U_igl| / bbox diagonal: {figures['max_diff_rel_diag']:.1e}")
     return figures
 

@@ -190,6 +190,110 @@ def arap_energy(V, U, F, C, R):
     return energy
 
 
+def cell_rotations_transposed(S):
+    """``optimal_rotation`` of a stack of 3x3 matrices, transposed, by the polar formula of their signed invariants.
+
+    Parameters
+    ----------
+    S : (k, 3, 3) numpy.ndarray of float
+        Covariance matrices, e.g. the ARAP local step's (finite).
+
+    Returns
+    -------
+    Rt : (k, 3, 3) numpy.ndarray
+        ``Rt[i] = R_iᵀ`` for ``R_i`` the rotation maximizing ``tr(R_i S_i)``:
+        the lecture's sign-corrected ``Ũ D Uᵀ`` to ``1e-12`` (``optimal_rotation(S)``
+        within that function's own accuracy), in the layout the global step's
+        right-hand side multiplies, so no transposed copy is made.
+
+    Notes
+    -----
+    For the SVD ``S = U Σ Ũᵀ``, let ``σ₃`` carry the sign of ``det S`` and
+    ``I₁ = σ₁ + σ₂ + σ₃``, ``I₂ = σ₁σ₂ + σ₁σ₃ + σ₂σ₃``, ``I₃ = σ₁σ₂σ₃ = det S``.
+    ``S``, ``cof S`` and ``S Sᵀ S`` are ``U diag(f(σ)) Ũᵀ`` for ``f(σ) = σ,
+    I₃/σ, σ³``, and by Cayley-Hamilton ``(I₁² - I₂) σ + I₁ I₃/σ - σ³ = I₁ I₂ - I₃``
+    at each ``σᵢ``, so ``Rᵀ = U D Ũᵀ = ((I₁² - I₂) S + I₁ cof S - S Sᵀ S) / (I₁ I₂ - I₃)``
+    with ``D = diag(1, 1, sign det S)``, the lecture's sign correction. ``I₁`` is
+    the best trace, the largest root ``λ`` of Horn's quartic
+    ``(λ² - ‖S‖²)² - 8 λ det S - 4 ‖cof S‖²`` (as in ``optimal_rotation``),
+    found by Newton's method from above; ``I₂ = (I₁² - ‖S‖²) / 2``. On
+    ``‖S‖ = 1`` the denominator ``(σ₁ + σ₂)(σ₁ + σ₃)(σ₂ + σ₃)`` is ``p'(λ) / 8``
+    for the quartic ``p``, ``0 ≤ λ - I₁ ≤ 4 p / p'``, and an error ``δ`` in
+    ``λ`` moves ``Rᵀ``'s entries by less than ``7 δ / (I₁ I₂ - I₃)``; a matrix
+    whose bound ``256 (|p| + 5e-15) / p'²`` (rounding of ``p`` included) is
+    below ``1e-12`` is trusted, the others (the denominator below ~0.14: rank
+    ≤ 1, strongly stretched cells, or nearly a reflection with two equal small
+    singular values) take the SVD. About 30% less time than ``optimal_rotation``'s quaternion
+    eigenvector on the ARAP local step's stacks (``benchmarks/bench_arap.py``).
+    """
+    k = len(S)
+    Rt = np.empty((k, 9))
+    trusted = np.empty(k, dtype=bool)
+    # blocks that stay in the CPU cache through the ~200 elementwise passes
+    block = 8192
+    for start in range(0, k, block):
+        stop = min(start + block, k)
+        # one contiguous row per matrix entry
+        X = S[start:stop].reshape(-1, 9).T.copy()
+        trusted[start:stop] = _polar_rotations_transposed(X, Rt[start:stop].T)
+    if not trusted.all():
+        U, _, Vt = np.linalg.svd(S[~trusted])
+        Vt[np.linalg.det(U @ Vt) < 0, -1, :] *= -1.0
+        Rt[~trusted] = (U @ Vt).reshape(-1, 9)
+    return Rt.reshape(k, 3, 3)
+
+
+def _polar_rotations_transposed(X, Rt):
+    """``cell_rotations_transposed`` of the ``(9, m)`` rows of entries ``X`` (scaled in place) into the rows of ``Rt``; returns the trust mask."""
+    norm2 = np.einsum("im,im->m", X, X)
+    if not ((norm2 > 1e-200) & (norm2 < 1e200)).all():
+        big = np.abs(X).max(axis=0)
+        X /= np.where(big > 0, big, 1.0)
+        norm2 = np.einsum("im,im->m", X, X)
+    # ‖S‖ = 1 makes the tolerances absolute; zero matrices stay zero (and untrusted)
+    X *= 1.0 / np.sqrt(np.where(norm2 > 0, norm2, 1.0))
+    s00, s01, s02, s10, s11, s12, s20, s21, s22 = X
+    cof = (
+        s11 * s22 - s12 * s21, s12 * s20 - s10 * s22, s10 * s21 - s11 * s20,
+        s02 * s21 - s01 * s22, s00 * s22 - s02 * s20, s01 * s20 - s00 * s21,
+        s01 * s12 - s02 * s11, s02 * s10 - s00 * s12, s00 * s11 - s01 * s10,
+    )
+    det = s00 * cof[0] + s01 * cof[1] + s02 * cof[2]
+    b = sum(c * c for c in cof)
+    # an upper bound of λ, exact when det S = 0 (see optimal_rotation)
+    lam = np.sqrt(1.0 + 2.0 * np.sqrt(3.0 * b))
+    lam = np.sqrt(1.0 + 2.0 * np.sqrt(b + 2.0 * np.abs(det) * lam))
+    b4, det8 = 4.0 * b, 8.0 * det
+    # three Newton steps reach rounding on the ARAP stacks; the trust test runs from then on. Those
+    # not trusted after eight are near a double root (strongly stretched cells), where it crawls: SVD.
+    for step in range(9):
+        l2a = lam * lam - 1.0
+        p = l2a * l2a - b4 - det8 * lam
+        dp = 4.0 * lam * l2a - det8
+        if step >= 3:
+            dp2 = dp * dp
+            trusted = 256.0 * (np.abs(p) + 5e-15) < 1e-12 * dp2
+            # p' only decreases towards the root: below 1.28 a matrix can never be trusted
+            if step == 8 or (trusted | (dp2 < 1.28)).all():
+                break
+        # from above, Newton never overshoots the largest root: a floored p' only shortens the step
+        lam -= p / np.maximum(dp, 0.01)
+    i2 = 0.5 * (lam * lam - 1.0)
+    g = 1.0 / np.where(trusted, lam * i2 - det, 1.0)
+    alpha, beta = (lam * lam - i2) * g, lam * g
+    # Rᵀ = M S + β cof S with the symmetric M = α I - g S Sᵀ
+    m00 = alpha - g * (s00 * s00 + s01 * s01 + s02 * s02)
+    m11 = alpha - g * (s10 * s10 + s11 * s11 + s12 * s12)
+    m22 = alpha - g * (s20 * s20 + s21 * s21 + s22 * s22)
+    m01 = -g * (s00 * s10 + s01 * s11 + s02 * s12)
+    m02 = -g * (s00 * s20 + s01 * s21 + s02 * s22)
+    m12 = -g * (s10 * s20 + s11 * s21 + s12 * s22)
+    for r, (ma, mb, mc) in enumerate(((m00, m01, m02), (m01, m11, m12), (m02, m12, m22))):
+        for c in range(3):
+            np.add(ma * X[c] + mb * X[3 + c] + mc * X[6 + c], beta * cof[3 * r + c], out=Rt[3 * r + c])
+    return trusted
+
+
 class SparseCholesky:
     """Sparse Cholesky factor of a symmetric positive definite matrix, for repeated solves.
 
@@ -257,7 +361,8 @@ def arap_precompute(V, F, handles):
         in the order ``[free, handles]``; ``rhs_moving``, the columns of
         ``rhs_operator`` of the moving cells (the others are zero);
         ``covariance_still``, the rows of the other cells and the handles'
-        columns (the others are zero).
+        columns (the others are zero); ``handle_fit``, the transposed
+        handles' columns of ``covariance_moving``, ``(h, d cells)``.
 
     Notes
     -----
@@ -342,6 +447,8 @@ def _moving_cells(G, F, free, handles, d):
         "covariance_moving": G_cells[:, np.concatenate([free, handles])].tocsc(),
         "rhs_moving": (G_cells[:, free].T / 3.0).tocsc(),
         "covariance_still": G[rows(still)][:, handles].tocsr(),
+        # Σ_moving tr(R_i S_i) = ⟨G_cellsᵀ R̃, U⟩: its handle rows (few: the cells at a handle region's rim)
+        "handle_fit": G_cells[:, handles].T.tocsr(),
     }
 
 
@@ -407,11 +514,18 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
     Notes
     -----
     The local step uses ``data.covariance_operator`` instead of
-    ``arap_covariances`` (same matrices, one sparse product). The energy uses
-    ``E = 3 (Σ C ‖e'‖² + Σ C ‖e‖²) - 2 Σ_i tr(R_i S_i(U))`` with
-    ``Σ C ‖e'‖² = -tr(Uᵀ L U)``, and ``S(U_k)`` is the next local step's input.
-    ``-tr(Uᵀ L U)`` comes from the global step's own system
-    ``-L_ff U_f = b_R + L_fh U_h``: it is ``tr(U_fᵀ (b_R - L_fh U_h)) - tr(U_hᵀ L_hh U_h)``.
+    ``arap_covariances`` (same matrices, one sparse product) and, in 3D,
+    ``cell_rotations_transposed`` instead of ``optimal_rotation`` (the same
+    rotations, to 1e-12 of the SVD's, transposed as the right-hand side needs
+    them). The energy needs no covariances of the new positions: with the
+    stacked transposed rotations ``R̃`` and ``S = G U`` (``G`` the covariance
+    operator), ``E = 3 (Σ C ‖e'‖² + Σ C ‖e‖²) - 2 ⟨Gᵀ R̃, U⟩``,
+    ``Σ C ‖e'‖² = -tr(Uᵀ L U)``, and the global step's own system
+    ``-L_ff U_f = b`` with ``b = G_fᵀ R̃ / 3 + L_fh U_h`` turns both into
+    ``-tr(Uᵀ L U) = tr(U_fᵀ (b - 2 L_fh U_h)) - tr(U_hᵀ L_hh U_h)`` and
+    ``⟨Gᵀ R̃, U⟩ = 3 tr(U_fᵀ (b - L_fh U_h)) + ⟨G_hᵀ R̃, U_h⟩``, so
+    ``E = 3 Σ C ‖e‖² - 3 tr(U_hᵀ L_hh U_h) - 3 tr(U_fᵀ b) - 2 ⟨G_hᵀ R̃, U_h⟩``
+    (the cells inside handle regions keep their term through the solve).
     The energy agrees with ``arap_energy`` up to rounding relative to the
     Dirichlet energies (``~1e-15`` of ``3 Σ C (‖e'‖² + ‖e‖²)``).
     """
@@ -434,29 +548,33 @@ def arap_solve(data, handle_positions, U0=None, iterations=10):
     # U_p = U[[free, handles]]: the solve writes U_p's free block, a contiguous view, in place
     m, cells = data.free.size, data.moving_cells.size
     U_p = np.concatenate([U[data.free], handle_positions])
+    U_f = U_p[:m]
     handle_rhs = data.L_free_handles @ handle_positions
     handle_dirichlet = np.einsum("ij,ij->", handle_positions, data.L_handles @ handle_positions)
     # the cells inside handle regions: one fit per solve (their covariances do not change)
     S_still = (data.covariance_still @ handle_positions).reshape(-1, d, d)
     still_fit = np.einsum("kij,kji->", optimal_rotation(S_still), S_still) if len(S_still) else 0.0
-    S = (data.covariance_moving @ U_p).reshape(cells, d, d)
+    # the energy's terms that stay through the solve (see the Notes)
+    constant = 3.0 * (data.rest_dirichlet - handle_dirichlet) - 2.0 * still_fit
     for k in range(int(iterations)):
         if cells:
-            R = optimal_rotation(S)
-            Rt = R.transpose(0, 2, 1).reshape(cells * d, d)
-            rotation_rhs = data.rhs_moving @ Rt
+            S = (data.covariance_moving @ U_p).reshape(cells, d, d)
+            # Rᵀ stacked: the rows (i, b) of the right-hand side's operand
+            if d == 3:
+                Rt = cell_rotations_transposed(S).reshape(cells * d, d)
+            else:
+                Rt = optimal_rotation(S).transpose(0, 2, 1).reshape(cells * d, d)
+            rhs = data.rhs_moving @ Rt
+            rim_fit = np.einsum("ij,ij->", handle_positions, data.handle_fit @ Rt)
         else:
-            Rt, rotation_rhs = np.empty((0, d)), np.zeros((m, d))
+            rhs, rim_fit = np.zeros((m, d)), 0.0
+        # b = b_R + L_fh U_h, in place
+        rhs += handle_rhs
         if m:
-            data.solver.solve_into(rotation_rhs + handle_rhs, U_p[:m])
-        S = (data.covariance_moving @ U_p).reshape(cells, d, d)
-        # -Uᵀ L U from the solve's -L_ff U_f = rotation_rhs + L_fh U_h (einsum, not
-        # BLAS's dot: OpenBLAS's threads would spin on the other core)
-        dirichlet = np.einsum("ij,ij->", U_p[:m], rotation_rhs - handle_rhs) - handle_dirichlet
-        # Σ_i tr(R_i S_i) = Σ_i Σ_ab (R_iᵀ)_ba (S_i)_ba
-        fit = np.einsum("i,i->", Rt.ravel(), S.ravel()) + still_fit
-        energies[k] = 3.0 * (dirichlet + data.rest_dirichlet) - 2.0 * fit
-    U[data.free] = U_p[:m]
+            data.solver.solve_into(rhs, U_f)
+        # (einsum, not BLAS's dot: OpenBLAS's threads would spin on the other core)
+        energies[k] = constant - 3.0 * np.einsum("ij,ij->", U_f, rhs) - 2.0 * rim_fit
+    U[data.free] = U_f
     return U, energies
 
 

@@ -68,13 +68,20 @@ def _handle_sets(handle_sets, n):
 
 def _largest_rotation_traces(cells):
     """``max over rotations R of tr(R S)`` for every ``S`` of an ``(n, 3, 3)`` stack (see ``ArapWidget.arap_energy``)."""
-    size = np.sqrt(np.einsum("nab,nab->n", cells, cells))
-    unit = cells / np.where(size > 0, size, 1.0)[:, None, None]
-    rows = unit.transpose(1, 0, 2)
-    cofactors = np.stack([np.cross(rows[1], rows[2]), np.cross(rows[2], rows[0]), np.cross(rows[0], rows[1])])
-    det = np.einsum("na,na->n", rows[0], cofactors[0])
-    cof2 = np.einsum("knb,knb->n", cofactors, cofactors)
-    lam = np.full(len(cells), np.sqrt(3.0))
+    # entry-major (3, 3, n): every pass below runs over contiguous rows, half the time of (n, 3) slices
+    entries = cells.reshape(-1, 9).T.copy()
+    size = np.sqrt(np.einsum("in,in->n", entries, entries))
+    entries /= np.where(size > 0, size, 1.0)
+    rows = entries.reshape(3, 3, -1)
+    # cofactor row a = row a+1 x row a+2 (indices mod 3)
+    cofactors = np.empty_like(rows)
+    for a in range(3):
+        u, v = rows[(a + 1) % 3], rows[(a + 2) % 3]
+        for b in range(3):
+            np.subtract(u[(b + 1) % 3] * v[(b + 2) % 3], u[(b + 2) % 3] * v[(b + 1) % 3], out=cofactors[a, b])
+    det = np.einsum("an,an->n", rows[0], cofactors[0])
+    cof2 = np.einsum("abn,abn->n", cofactors, cofactors)
+    lam = np.full(len(size), np.sqrt(3.0))
     for _ in range(60):
         square = lam * lam - 1.0
         slope = 4.0 * lam * square - 8.0 * det
@@ -201,10 +208,13 @@ class ArapRenderer(OffscreenRenderer):
             theme.multi_samples = 0
             theme.anti_aliasing = None
             theme.background = "white"
-            pl = pv.Plotter(off_screen=True, window_size=self.size, theme=theme)
+            # one light above the camera and some ambient: the default five-light kit took ~9 ms a
+            # picture on software OpenGL (llvmpipe) against ~6 ms, a third of a frame at 30 per second
+            pl = pv.Plotter(off_screen=True, window_size=self.size, theme=theme, lighting="none")
+            pl.add_light(pv.Light(position=(0.2, 0.5, 1.0), light_type="camera light"))
             mesh = pv.PolyData.from_regular_faces(U.copy(), self.F)
             mesh.point_data["colour"] = self.colours
-            pl.add_mesh(mesh, scalars="colour", rgb=True, show_scalar_bar=False)
+            pl.add_mesh(mesh, scalars="colour", rgb=True, show_scalar_bar=False, ambient=0.25, diffuse=0.8)
             pl.enable_parallel_projection()
             distance = 20.0 * self.reach
             pl.camera.focal_point = tuple(self.centre)
