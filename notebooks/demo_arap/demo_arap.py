@@ -37,7 +37,7 @@
 # the shape settle.
 #
 # The solver is libigl's `igl.arap_solve` with the spokes-and-rims energy,
-# the one stage 03 asks you to write (your own lives in your notebook). The
+# the one stages 03 and 03b ask you to write (your own lives in your notebooks). The
 # energy shown under the picture is stage 03's `arap_energy` with every
 # cell's best rotation: it never rises while the handles stay put, because
 # every local step and every global step can only lower it.
