@@ -337,6 +337,8 @@ _C = np.array([[0.1, 0.2, 0.3]])  # squared edge lengths 2, 1, 1: Σ_k C_k |e_k|
 _E = arap_energy(_V, 2 * _V, _F, _C, np.tile(np.eye(2), (3, 1, 1)))
 assert np.isclose(_E, 2.1), (
     f"scaling the triangle by 2 with R_i = I: each of the 3 corners sees |2e - e|² per edge, E = 3 · 0.7 = 2.1, got {_E}"
+    + (" (did you count each edge for one corner only?)" if np.isclose(_E, 0.7) else "")
+    + (": that is 3 Σ |e|², without the weights; weight each edge's term by its C[t, k]" if np.isclose(_E, 12.0) else "")
 )
 _V, _F = load_mesh("bar_coarse")
 _Q = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])  # a rotation
