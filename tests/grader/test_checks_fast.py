@@ -270,7 +270,7 @@ def _swap(R):
 MISTAKES = {
     "clusters: one assignment step, no iterations": ("rotation_clusters", {"rotation_clusters": one_assignment}, "Lloyd's fixed point: each row nearest to its own cluster's mean"),
     "clusters: empty clusters never refilled": ("rotation_clusters", {"rotation_clusters": empty_clusters_kept}, "every label used"),
-    "clusters: a poor local minimum": ("rotation_clusters", {"rotation_clusters": bunched_start}, "within-cluster sum of squares at most 2× the reference's"),
+    "clusters: a poor local minimum": ("rotation_clusters", {"rotation_clusters": bunched_start}, "within-cluster sum of squares at most 3× the reference's"),
     "clusters: labels 1..k": ("rotation_clusters", {"rotation_clusters": lambda W, k, seed=0: ref.rotation_clusters(W, k, seed) + 1}, "labels in range(k)"),
     "clusters: float labels": ("rotation_clusters", {"rotation_clusters": lambda W, k, seed=0: ref.rotation_clusters(W, k, seed).astype(float)}, "integer labels"),
     "energy: one rotation for every cell": (

@@ -43,10 +43,11 @@ from starter.meshes import load_handles, load_mesh
 #: A global step's transforms against the reference's, relative to their largest entry.
 SOLVE_RTOL = 1e-8
 #: Largest within-cluster sum of squares accepted, as a multiple of the reference's. k-means has local
-#: minima: on the hidden cases Lloyd's fixed points from k random rows reach up to 1.54x the
-#: reference's, from k-means++ seeds 1.30x, from a start bunched at one handle 6-65x
-#: (``tests/grader/test_checks_fast.py`` grades the first and the last).
-CLUSTER_FACTOR = 2.0
+#: minima: on the hidden cases of seeds 0-2, Lloyd's fixed points from k random distinct rows reach up to
+#: 2.06x the reference's (300 starts per case; 2.0 rejected one of them in CI), from k-means++ seeds 1.30x,
+#: from a start bunched at one handle 6.0-65x (``tests/grader/test_checks_fast.py`` grades the first and
+#: the last).
+CLUSTER_FACTOR = 3.0
 #: Roundoff allowed in the distances of Lloyd's fixed point, relative to the largest squared row norm of ``W``.
 LLOYD_RTOL = 1e-9
 
