@@ -54,6 +54,12 @@ from starter.validation import as_float_array
 #   dense is 3-10 times slower. Hand -9 to -11 % CPU (3 alternating A/B
 #   runs), the square, the bones and the L within noise (0 to -3 %); 30
 #   instead of 13 on the hand: +2 %.
+# - ADMM_SINGLE_CONDITION: ADMM runs in single precision while λ_max / ρ
+#   (1.4e4 on the hand to 1.3e6 on the comb) is at most this, 1 / ε₃₂: CPU
+#   on the family (square, U notch, comb, holes, bones, regions, L, hand)
+#   -2, -3, -6, -2, -6, -2, -5, 0 % (3 alternating A/B runs); the free
+#   block factorizations are the same but for the comb (39 -> 37), the
+#   regions (10 -> 9) and the L (110 -> 109).
 # Tried and dropped: starting each column at the lower bound wherever an
 # earlier column came out at 1 (the partition of unity) raised the
 # factorizations of the L with 20 points from 270 to 323 and of the
@@ -78,6 +84,7 @@ ADMM_NEAR_BOUND = 0.1
 BORDER_BUDGET = 1.0
 WIDEN_MAX = 0.3
 RELEASE_RANGE = 0.003
+ADMM_SINGLE_CONDITION = 1e7
 DENSE_MAX = 1000
 DENSE_SPEEDUP = 13.0
 
@@ -213,7 +220,7 @@ def _solve(H, G, tol):
             # layout, and takes other layouts through a copy
             G_ordered = np.asfortranarray(G[order])
             at_lower, at_upper = _admm_active_sets(
-                H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale),
+                H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale), scale,
             )
             at_lower, at_upper = _widened(H_ordered, at_lower, at_upper)
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
@@ -275,7 +282,7 @@ def _admm_penalty(H, lu, scale):
     return ADMM_PENALTY * float(np.sqrt(max(v @ (H @ v), 0.0) * scale))
 
 
-def _admm_active_sets(H, G, X_unconstrained, rho):
+def _admm_active_sets(H, G, X_unconstrained, rho, scale):
     """Predict the active sets of every column with a few ADMM steps.
 
     ADMM on the splitting ``x = z``, ``z`` in the box: each step is one solve
@@ -283,10 +290,24 @@ def _admm_active_sets(H, G, X_unconstrained, rho):
     is not accurate, but the bounds it touches are close to the final active
     sets, which PDAS started from the unconstrained minimizer's out-of-box
     regions reaches only a stencil ring per step. ``H`` is CSC in a
-    fill-reducing order, ``G`` and ``X_unconstrained`` are ``(n, m)``;
+    fill-reducing order, ``G`` and ``X_unconstrained`` are ``(n, m)``,
+    ``rho`` the penalty and ``scale`` a bound on ``H``'s largest eigenvalue;
     returns ``(at_lower, at_upper)``, ``(n, m)`` bool.
     """
-    lu = _factor((H + rho * sp.identity(H.shape[0], format="csc")).tocsc(), "NATURAL")
+    H_rho = (H + rho * sp.identity(H.shape[0], format="csc")).tocsc()
+    # Single precision solves faster, and ADMM's iterate only needs to find
+    # the bounds: its solves lose about (λ_max / ρ) ε₃₂ in relative accuracy
+    # (at most 0.08 on the family, whose predictions stay the same to within
+    # 2 factorizations)
+    dtype = np.float32 if scale / rho <= ADMM_SINGLE_CONDITION else np.float64
+    try:
+        lu = _factor(H_rho.astype(dtype), "NATURAL")
+    except ValueError:  # a zero pivot in single precision
+        dtype = np.float64
+        lu = _factor(H_rho, "NATURAL")
+    G = np.asfortranarray(G, dtype=dtype)
+    X_unconstrained = np.asfortranarray(X_unconstrained, dtype=dtype)
+    rho = dtype(rho)
     Z = np.clip(X_unconstrained, 0.0, 1.0)
     Z_last = Z
     U = X_unconstrained - Z

@@ -186,7 +186,7 @@ def test_the_admm_start_saves_active_set_steps_on_the_tetrahedral_hand(monkeypat
     """The sparse branch starts from ADMM's bounds: fewer active-set steps than from the unconstrained minimizer's."""
     H, G = hand_problem()
     X_admm, steps_admm, _ = solve_counting(monkeypatch, H, G)
-    monkeypatch.setattr(box_qp_module, "_admm_active_sets", lambda H, G, X0, rho: (X0 < 0, X0 > 1))
+    monkeypatch.setattr(box_qp_module, "_admm_active_sets", lambda H, G, X0, rho, scale: (X0 < 0, X0 > 1))
     X_plain, steps_plain, _ = solve_counting(monkeypatch, H, G)
     assert steps_admm < 0.8 * steps_plain
     for X in (X_admm, X_plain):
@@ -448,3 +448,24 @@ def test_dense_blocks_factor_the_tetrahedral_hand_and_give_the_same_weights(monk
 def test_a_dense_block_that_is_not_positive_definite_names_the_problem():
     with pytest.raises(ValueError, match="H must be positive definite"):
         box_qp_module._DenseCholesky(sp.csc_matrix(np.array([[1.0, 2.0], [2.0, 1.0]])))
+
+
+@pytest.mark.parametrize("single", [False, True])
+def test_admm_in_single_or_double_precision_leads_to_the_same_minimizers(monkeypatch, single):
+    """ADMM only predicts the active sets: its precision changes the path, never the exact minimizer."""
+    H, G = hand_problem()
+    X = box_qp(H, G)
+    dtypes = []
+    factor = box_qp_module._factor
+
+    def recording_factor(A, permc_spec):
+        dtypes.append(A.dtype)
+        return factor(A, permc_spec)
+
+    monkeypatch.setattr(box_qp_module, "_factor", recording_factor)
+    monkeypatch.setattr(box_qp_module, "ADMM_SINGLE_CONDITION", np.inf if single else 0.0)
+    X_other = box_qp(H, G)
+    assert (np.float32 in dtypes) == single
+    for x, g in zip(X_other.T, G.T):
+        assert kkt_residual(H, g, x) <= 1e-9
+    np.testing.assert_allclose(X, X_other, atol=1e-7)
