@@ -556,7 +556,9 @@ class _FreeBlockSolver:
             right = -(z @ self.B[:, :used])[slots]
             right[:k] += r[added]
             u = np.zeros(used)
-            u[slots] = scipy.linalg.solve(S, right, check_finite=False)
+            # S is symmetric but indefinite (the removed variables' rows):
+            # LDLᵀ, without scipy's structure detection
+            u[slots] = scipy.linalg.solve(S, right, check_finite=False, assume_a="sym")
             z -= self.Y[:, :used] @ u
             x[added] = u[slots[:k]]
         x[self.base] = z
@@ -635,11 +637,14 @@ def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt):
         if free.any():
             r = g - H @ x  # H[free, upper] 1 is (H 1_upper)[free]
             x[free] = blocks.solve(free, r)
-            if not np.array_equal(blocks.base, free) and np.abs((H @ x - g)[free]).max() > 0.1 * tol_kkt:
+            gradient = H @ x - g
+            if not np.array_equal(blocks.base, free) and np.abs(gradient[free]).max() > 0.1 * tol_kkt:
                 # the bordered solve lost accuracy (a direct solve leaves the free
                 # gradient far below a tenth of the tolerance): factor the block
                 x[free] = blocks.solve_factored(free, r)
-        gradient = H @ x - g
+                gradient = H @ x - g
+        else:
+            gradient = H @ x - g
         below = free & (x < 0)
         above = free & (x > 1)
         release = (lower & (gradient < -tol_release)) | (upper & (gradient > tol_release))
