@@ -131,10 +131,13 @@ def box_qp(H, G, tol=1e-9):
     small dense solve on C; if the solution then leaves the box outside C, C
     grows and the solve repeats. When C is large, the iterations start from
     the bounds that a few ADMM steps touch or nearly touch (Boyd et al. 2011,
-    one factorization of ``H + ρI`` for all columns). The free blocks of ``H``
-    keep the fill-reducing order of ``H``, computed once; a step whose free
-    block differs from the last factored one by a few variables borders that
-    factorization instead of factoring anew (a Schur-complement update).
+    one factorization of ``H + ρI`` for all columns, in single precision when
+    ``H + ρI`` is well enough conditioned: ADMM only predicts). The free
+    blocks of ``H`` keep the fill-reducing order of ``H``, computed once, and
+    are factored sparse, or dense where fill would make the sparse
+    factorization slower (small blocks of tetrahedral meshes); a step whose
+    free block differs from the last factored one by a few variables borders
+    that factorization instead of factoring anew (a Schur-complement update).
     The predicted free sets start one ring of ``H``'s graph wider where that
     ring is thin: the steps pin a free set too large in bulk, but grow one
     too small only at its border, a ring per step. Free components that
