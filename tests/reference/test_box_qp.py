@@ -469,3 +469,19 @@ def test_admm_in_single_or_double_precision_leads_to_the_same_minimizers(monkeyp
     for x, g in zip(X_other.T, G.T):
         assert kkt_residual(H, g, x) <= 1e-9
     np.testing.assert_allclose(X, X_other, atol=1e-7)
+
+
+def test_admm_falls_back_to_double_precision_when_the_single_factorization_fails(monkeypatch):
+    H, G = hand_problem()
+    X = box_qp(H, G)
+    factor, dtypes = box_qp_module._factor, []
+
+    def single_fails(A, permc_spec):
+        dtypes.append(A.dtype)
+        if A.dtype == np.float32:
+            raise ValueError("H must be positive definite: its factorization failed (Factor is exactly singular)")
+        return factor(A, permc_spec)
+
+    monkeypatch.setattr(box_qp_module, "_factor", single_fails)
+    np.testing.assert_allclose(box_qp(H, G), X, atol=1e-7)
+    assert dtypes[:3] == [np.float64, np.float32, np.float64]
