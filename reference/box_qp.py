@@ -45,6 +45,21 @@ from starter.validation import as_float_array
 #   the family as above, 0 -> 0.003: 14 -> 10, 34 -> 24, 72 -> 59, 24 -> 17,
 #   30 -> 23, 22 -> 16, 230 -> 172, 0 -> 0, 13 -> 13; CPU -7, -15, -9, -13,
 #   0, -23, -10, 0, 0 % (3 alternating runs). 0.0003-0.03 within noise.
+# - DENSE_SPEEDUP, DENSE_MAX: a free block is factored dense when its k³/3
+#   flops are at most DENSE_SPEEDUP times the sparse estimate (and k at most
+#   DENSE_MAX). On the tetrahedral hand's blocks (k 150-640), LAPACK's
+#   Cholesky beat SuperLU at flop ratios 8-13 (0.05 against 0.26 ms at k =
+#   151, 0.77 against 1.6 ms at k = 442) and lost at 25 (k = 641: 2.9
+#   against 1.4 ms); the triangle meshes' blocks have ratios 85-280, where
+#   dense is 3-10 times slower. Hand -9 to -11 % CPU (3 alternating A/B
+#   runs), the square, the bones and the L within noise (0 to -3 %); 30
+#   instead of 13 on the hand: +2 %.
+# - ADMM_SINGLE_CONDITION: ADMM runs in single precision while λ_max / ρ
+#   (1.4e4 on the hand to 1.3e6 on the comb) is at most this, 1 / ε₃₂: CPU
+#   on the family (square, U notch, comb, holes, bones, regions, L, hand)
+#   -2, -3, -6, -2, -6, -2, -5, 0 % (3 alternating A/B runs); the free
+#   block factorizations are the same but for the comb (39 -> 37), the
+#   regions (10 -> 9) and the L (110 -> 109).
 # Tried and dropped: starting each column at the lower bound wherever an
 # earlier column came out at 1 (the partition of unity) raised the
 # factorizations of the L with 20 points from 270 to 323 and of the
@@ -69,6 +84,9 @@ ADMM_NEAR_BOUND = 0.1
 BORDER_BUDGET = 1.0
 WIDEN_MAX = 0.3
 RELEASE_RANGE = 0.003
+ADMM_SINGLE_CONDITION = 1e7
+DENSE_MAX = 1000
+DENSE_SPEEDUP = 13.0
 
 # SymmetricMode with diagonal pivots: H is symmetric positive definite, and
 # SuperLU factors it far faster this way than with partial pivoting
@@ -113,10 +131,13 @@ def box_qp(H, G, tol=1e-9):
     small dense solve on C; if the solution then leaves the box outside C, C
     grows and the solve repeats. When C is large, the iterations start from
     the bounds that a few ADMM steps touch or nearly touch (Boyd et al. 2011,
-    one factorization of ``H + ρI`` for all columns). The free blocks of ``H``
-    keep the fill-reducing order of ``H``, computed once; a step whose free
-    block differs from the last factored one by a few variables borders that
-    factorization instead of factoring anew (a Schur-complement update).
+    one factorization of ``H + ρI`` for all columns, in single precision when
+    ``H + ρI`` is well enough conditioned: ADMM only predicts). The free
+    blocks of ``H`` keep the fill-reducing order of ``H``, computed once, and
+    are factored sparse, or dense where fill would make the sparse
+    factorization slower (small blocks of tetrahedral meshes); a step whose
+    free block differs from the last factored one by a few variables borders
+    that factorization instead of factoring anew (a Schur-complement update).
     The predicted free sets start one ring of ``H``'s graph wider where that
     ring is thin: the steps pin a free set too large in bulk, but grow one
     too small only at its border, a ring per step. Free components that
@@ -202,14 +223,17 @@ def _solve(H, G, tol):
             # layout, and takes other layouts through a copy
             G_ordered = np.asfortranarray(G[order])
             at_lower, at_upper = _admm_active_sets(
-                H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale),
+                H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale), scale,
             )
             at_lower, at_upper = _widened(H_ordered, at_lower, at_upper)
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
+            # lu's L is in that order too: the pattern of every block's factor
+            # lies within it (see _FreeBlockSolver.fill)
+            fill = lu.L
             X = np.empty((n, m))
             for j in range(m):
                 X[order, j] = _sparse_active_set(
-                    H_ordered, columns, G_ordered[:, j], at_lower[:, j], at_upper[:, j], tol * scale,
+                    H_ordered, columns, fill, G_ordered[:, j], at_lower[:, j], at_upper[:, j], tol * scale,
                 )
             return X
         # Order C last, the rest in lu's fill-reducing order (lu.perm_c[i] is
@@ -261,7 +285,7 @@ def _admm_penalty(H, lu, scale):
     return ADMM_PENALTY * float(np.sqrt(max(v @ (H @ v), 0.0) * scale))
 
 
-def _admm_active_sets(H, G, X_unconstrained, rho):
+def _admm_active_sets(H, G, X_unconstrained, rho, scale):
     """Predict the active sets of every column with a few ADMM steps.
 
     ADMM on the splitting ``x = z``, ``z`` in the box: each step is one solve
@@ -269,10 +293,24 @@ def _admm_active_sets(H, G, X_unconstrained, rho):
     is not accurate, but the bounds it touches are close to the final active
     sets, which PDAS started from the unconstrained minimizer's out-of-box
     regions reaches only a stencil ring per step. ``H`` is CSC in a
-    fill-reducing order, ``G`` and ``X_unconstrained`` are ``(n, m)``;
+    fill-reducing order, ``G`` and ``X_unconstrained`` are ``(n, m)``,
+    ``rho`` the penalty and ``scale`` a bound on ``H``'s largest eigenvalue;
     returns ``(at_lower, at_upper)``, ``(n, m)`` bool.
     """
-    lu = _factor((H + rho * sp.identity(H.shape[0], format="csc")).tocsc(), "NATURAL")
+    H_rho = (H + rho * sp.identity(H.shape[0], format="csc")).tocsc()
+    # Single precision solves faster, and ADMM's iterate only needs to find
+    # the bounds: its solves lose about (λ_max / ρ) ε₃₂ in relative accuracy
+    # (at most 0.08 on the family, whose predictions stay the same to within
+    # 2 factorizations)
+    dtype = np.float32 if scale / rho <= ADMM_SINGLE_CONDITION else np.float64
+    try:
+        lu = _factor(H_rho.astype(dtype), "NATURAL")
+    except ValueError:  # a zero pivot in single precision
+        dtype = np.float64
+        lu = _factor(H_rho, "NATURAL")
+    G = np.asfortranarray(G, dtype=dtype)
+    X_unconstrained = np.asfortranarray(X_unconstrained, dtype=dtype)
+    rho = dtype(rho)
     Z = np.clip(X_unconstrained, 0.0, 1.0)
     Z_last = Z
     U = X_unconstrained - Z
@@ -403,13 +441,24 @@ class _FreeBlockSolver:
     ``|A| + |R|`` passes the cost of a new factorization in such solves, ``F``
     becomes the new base.
 
-    ``H`` is CSC with sorted indices in the order every block keeps and
-    ``columns`` the column of each stored entry (see ``_principal_submatrix``).
+    A block is factored sparse (SuperLU) or dense (LAPACK's Cholesky),
+    whichever is estimated faster: dense when its ``k³/3`` flops are at most
+    ``DENSE_SPEEDUP`` times the sparse factor's. That estimate takes the
+    pattern of ``H``'s own factor in the same order, restricted to the block
+    (which contains the block factor's pattern: eliminating fewer variables
+    fills in no more). Small blocks of tetrahedral meshes factor faster dense;
+    those of triangle meshes, with far less fill, never do.
+
+    ``H`` is CSC with sorted indices in the order every block keeps,
+    ``columns`` the column of each stored entry (see ``_principal_submatrix``)
+    and ``fill`` ``(n, n)`` CSC, a lower triangular factor of ``H`` in that
+    order (only its pattern matters).
     """
 
-    def __init__(self, H, columns):
+    def __init__(self, H, columns, fill):
         self.H = H
         self.columns = columns
+        self.fill = fill
         self.base = None
 
     def solve(self, free, r):
@@ -427,12 +476,18 @@ class _FreeBlockSolver:
         return self._base_solve(r)
 
     def _refactor(self, free):
-        self.lu = _factor(_principal_submatrix(self.H, self.columns, free), "NATURAL")
+        block = _principal_submatrix(self.H, self.columns, free)
+        k = block.shape[0]
+        if k <= DENSE_MAX and k**3 / 3 <= DENSE_SPEEDUP * self._sparse_flops(free):
+            self.lu = _DenseCholesky(block)
+            column_counts = np.arange(k, 0, -1, dtype=np.float64)
+        else:
+            self.lu = _factor(block, "NATURAL")
+            column_counts = np.diff(self.lu.L.indptr).astype(np.float64)
         self.base = free.copy()
         self.position = np.cumsum(free) - 1  # of each base variable in the block
         # a factorization costs about Σ (column count)² flops, a solve about
         # 4 Σ column count (see BORDER_BUDGET)
-        column_counts = np.diff(self.lu.L.indptr).astype(np.float64)
         self.budget = BORDER_BUDGET * float((column_counts**2).sum()) / float(column_counts.sum())
         # every variable that has bordered this block has a slot: its column
         # b of [H0A E_R] in B, H00⁻¹ b in Y, and the products bᵢᵀ yⱼ in BY
@@ -442,6 +497,13 @@ class _FreeBlockSolver:
         # slots grow as variables border: allocating the whole budget at once
         # would hold 2 x 8 bytes x budget per base variable
         self._allocate(16)
+
+    def _sparse_flops(self, free):
+        """An upper bound on the flops, ``Σ (column count)²``, of a sparse factorization of ``H[free, free]``."""
+        # only the block's columns of the factor: a small block costs little
+        # to estimate on a large mesh
+        rows, k, _ = _stored_entries(self.fill, np.flatnonzero(free))
+        return float((np.bincount(k[free[rows]]).astype(np.float64) ** 2).sum())
 
     def _allocate(self, slots):
         size, used = int(self.position[-1]) + 1, self.used
@@ -497,11 +559,27 @@ class _FreeBlockSolver:
             right = -(z @ self.B[:, :used])[slots]
             right[:k] += r[added]
             u = np.zeros(used)
-            u[slots] = scipy.linalg.solve(S, right, check_finite=False)
+            # S is symmetric but indefinite (the removed variables' rows):
+            # LDLᵀ, without scipy's structure detection
+            u[slots] = scipy.linalg.solve(S, right, check_finite=False, assume_a="sym")
             z -= self.Y[:, :used] @ u
             x[added] = u[slots[:k]]
         x[self.base] = z
         return x[free]
+
+
+class _DenseCholesky:
+    """The Cholesky factor of a sparse SPD matrix ``A`` ``(k, k)``, held dense; ``solve`` as SuperLU's."""
+
+    def __init__(self, A):
+        try:
+            self.factor = scipy.linalg.cho_factor(A.toarray(), check_finite=False)
+        except np.linalg.LinAlgError as error:
+            raise ValueError(f"H must be positive definite: its factorization failed ({error})") from None
+
+    def solve(self, b):
+        """``A⁻¹ b`` for ``b`` ``(k,)`` or ``(k, q)``."""
+        return scipy.linalg.cho_solve(self.factor, b, check_finite=False)
 
 
 def _stored_entries(H, variables):
@@ -535,20 +613,21 @@ def _idle(H, columns, free, r):
     return idle
 
 
-def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
+def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt):
     """Minimize ``½ xᵀ H x - gᵀ x`` over ``0 ≤ x ≤ 1`` to KKT residual ``tol_kkt``; ``H`` sparse SPD.
 
     ``H`` is CSC with sorted indices, its variables in a fill-reducing order
     that every free block keeps, and ``columns`` the column of each of its
-    stored entries (see ``_principal_submatrix``); ``lower`` and ``upper``
-    are ``(n,)`` bool, the initial active sets.
+    stored entries (see ``_principal_submatrix``), and ``fill`` ``H``'s
+    factor in that order (see ``_FreeBlockSolver``); ``lower`` and
+    ``upper`` are ``(n,)`` bool, the initial active sets.
 
     Returns ``x`` ``(n,)``, in the box exactly.
     """
     n = len(g)
     max_iter = 100 + 5 * n
     seen, murty = set(), False
-    blocks = _FreeBlockSolver(H, columns)
+    blocks = _FreeBlockSolver(H, columns, fill)
     lower = lower | _idle(H, columns, ~(lower | upper), g - H @ upper.astype(np.float64))
     # A multiplier within this of zero is left alone: such a variable costs at
     # most half the tolerance where it is, and releasing it on the sign of
@@ -561,11 +640,14 @@ def _sparse_active_set(H, columns, g, lower, upper, tol_kkt):
         if free.any():
             r = g - H @ x  # H[free, upper] 1 is (H 1_upper)[free]
             x[free] = blocks.solve(free, r)
-            if not np.array_equal(blocks.base, free) and np.abs((H @ x - g)[free]).max() > 0.1 * tol_kkt:
+            gradient = H @ x - g
+            if not np.array_equal(blocks.base, free) and np.abs(gradient[free]).max() > 0.1 * tol_kkt:
                 # the bordered solve lost accuracy (a direct solve leaves the free
                 # gradient far below a tenth of the tolerance): factor the block
                 x[free] = blocks.solve_factored(free, r)
-        gradient = H @ x - g
+                gradient = H @ x - g
+        else:
+            gradient = H @ x - g
         below = free & (x < 0)
         above = free & (x > 1)
         release = (lower & (gradient < -tol_release)) | (upper & (gradient > tol_release))
