@@ -77,6 +77,25 @@ from starter.validation import as_float_array
 # RELEASE_RANGE and BORDER_BUDGET 1, 40 ADMM steps instead of 25: U notch
 # -28 %, comb -16 %, regions -7 %, but bones +11 % and the hand (the
 # worst member) +12 %.
+# Issue 27 (hand 0.33, bones 0.28 of igl.bbw's CPU), measured and dropped:
+# on the hand (44 ms a call) the shared part is SuperLU's MMD ordering of H
+# (1.8 ms), its factorization (2.4 ms), that of H + ρI (2.3 ms, float32
+# barely faster) and 25 ADMM solves (0.29 ms each for 6 columns; a dense
+# float32 Cholesky of the whole H costs 5.8 ms and solves in 0.65 ms, so no
+# gain there); the columns take ~29 ms, 1 factorization and 2-4 bordered
+# steps each. Skipping ADMM (start from the out-of-box bounds of H⁻¹ g):
+# hand 6 -> 10 factorizations, +17 % time. ADMM 5, 10, 15, 20, 40 steps on
+# the hand: 8, 8, 8, 7, 6 factorizations, time within noise of 25 steps
+# (-5 to +18 %). Releasing, on a step that only releases, the bound
+# neighbours of every released variable too (the bones' first column grows
+# ~7 variables a step for 17 steps): bones 17 -> 234 factorizations (7x
+# the time), hand 6 -> 42 (the released zero-region neighbours fall back out
+# of the box, step after step). Widening also by ring variables whose ADMM
+# iterate is strictly inside the box: no change (the hand's missed free
+# variables sit at ADMM's bound exactly). RELEASE_RANGE 0 / 0.0003 and
+# BORDER_BUDGET 0.5 / 1.5 on the bones: 24 / 16 and 24 / 13 factorizations,
+# time within noise or worse. On the bones' slow column the bordered steps
+# cost ~10 ms each, mostly SuperLU solves of the new bordering columns.
 ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
