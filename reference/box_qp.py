@@ -95,7 +95,14 @@ from starter.validation import as_float_array
 # variables sit at ADMM's bound exactly). RELEASE_RANGE 0 / 0.0003 and
 # BORDER_BUDGET 0.5 / 1.5 on the bones: 24 / 16 and 24 / 13 factorizations,
 # time within noise or worse. On the bones' slow column the bordered steps
-# cost ~10 ms each, mostly SuperLU solves of the new bordering columns.
+# cost ~10 ms each, mostly SuperLU solves of the new bordering columns
+# (0.23 ms a right-hand side on a 6000-variable block). The same ring
+# release, but never to a variable already pinned from out of the box in
+# that column: bones 17 -> 27 factorizations (+15 % time), hand 6 -> 11
+# (+50 %): a whole ring is wider than the front's true step, and its far
+# side falls out of the box. Dense blocks bordered less (their budget times
+# 0, 0.1, 0.3, 0.5): hand 19, 13, 9, 7 factorizations instead of 6, +3 to
+# +30 % time (2 alternating runs).
 ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
