@@ -89,8 +89,7 @@ from starter.validation import as_float_array
 # (-5 to +18 %). Releasing, on a step that only releases, the bound
 # neighbours of every released variable too (the bones' first column grows
 # ~7 variables a step for 17 steps): bones 17 -> 234 factorizations (7x
-# the time), hand 6 -> 42 (the released zero-region neighbours fall back out
-# of the box, step after step). Widening also by ring variables whose ADMM
+# the time), hand 6 -> 42 (not traced; see the variant below). Widening also by ring variables whose ADMM
 # iterate is strictly inside the box: no change (the hand's missed free
 # variables sit at ADMM's bound exactly). RELEASE_RANGE 0 / 0.0003 and
 # BORDER_BUDGET 0.5 / 1.5 on the bones: 24 / 16 and 24 / 13 factorizations,
