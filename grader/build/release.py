@@ -12,7 +12,9 @@ Checks, each failing the release loudly:
    contract function fail, every tests cell fails, and a blank submission scores 0;
 4. every autograded cell has points and the stable ``grade_id`` ``test_<function>``;
 5. the ungraded demo notebooks (``notebooks/demo_skinning``, ``notebooks/demo_arap``),
-   shipped in the student bundle, run top to bottom and show their widget and animation.
+   shipped in the student bundle, run top to bottom and show their widget and animation;
+6. every ``data/`` file and every document (``*.md``) a notebook or demo names is in the
+   student bundle (``--no-execute`` makes this check too).
 """
 
 from __future__ import annotations
@@ -378,6 +380,30 @@ def check_course_files(paths: CoursePaths, course: Assignment, report: ReleaseRe
                 )
 
 
+#: A document a notebook's text names, e.g. ``LIBRARY_POLICY.md``.
+_DOCUMENT = re.compile(r"(?<![\w./-])([\w.-]+\.md)\b")
+
+
+def check_named_documents(paths: CoursePaths, course: Assignment, report: ReleaseReport) -> None:
+    """Every document (``*.md``) a notebook or demo tells students to read is in the student bundle.
+
+    The bundle holds ``README.md``, ``LIBRARY_POLICY.md``, the pack's contract and its
+    ``[bundle] files``; a notebook that sends students to any other file sends them
+    nowhere. Needs no execution, so ``--no-execute`` makes it too.
+    """
+    shipped = {"LIBRARY_POLICY.md", *(f.name for f in (course.contract, *course.bundle_files) if f is not None)}
+    if course.readme is not None:
+        shipped.add("README.md")
+    sources = [*authored_notebooks(course.name), *(paths.notebooks / d / f"{d}.py" for d in course.demos)]
+    for path in sources:
+        named = {m.group(1) for cell in jupytext.read(path).cells for m in _DOCUMENT.finditer(cell.source)}
+        for name in sorted(named - shipped):
+            report.problems.append(
+                f"{path.name} names {name}, which the student bundle does not ship: add it to [bundle] files "
+                f"in {course.folder / 'assignment.toml'}, or name a document the bundle has ({', '.join(sorted(shipped))})"
+            )
+
+
 def check_points(sources: list[Path], report: ReleaseReport, course: Assignment) -> None:
     for path in sources:
         nb = nbformat.read(path, as_version=4)
@@ -533,6 +559,7 @@ def release(assignment: str | None = None, execute: bool = True, paths: CoursePa
     report.problems += scan_for_leaks(texts, teaching_bodies(assignment), public_lines(paths), course)
     check_points(sources, report, course)
     check_course_files(paths, course, report)
+    check_named_documents(paths, course, report)
     if execute:
         steps = (
             ("executing the instructor notebooks", lambda: check_source_execution(sources, report, paths)),

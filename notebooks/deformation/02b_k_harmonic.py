@@ -25,8 +25,8 @@
 # and 402, and the linear method the lecture contrasts ARAP with: §4 shows
 # what it cannot do.
 #
-# **Notation** (the lecture's letters; the code's names are the contract's,
-# `LECTURE_CONTRACT.md`):
+# **Notation** (the lecture's letters; the code's names are the ones the
+# functions' docstrings below define):
 #
 # | symbol | meaning | in code |
 # |---|---|---|

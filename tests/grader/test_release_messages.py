@@ -76,3 +76,26 @@ def test_a_notebook_loading_a_course_file_the_bundle_does_not_ship_is_refused_wi
         f"07_tetrahedra.py loads data/bar_tet.npz, which the student bundle does not ship: "
         f"add it to data in {course.folder / 'assignment.toml'}"
     ]
+
+
+@pytest.mark.parametrize("assignment", ["deformation", "smoothing"])
+def test_a_notebook_naming_a_document_the_bundle_does_not_ship_is_refused_without_executing(assignment):
+    """A notebook that tells students to read a document sends them nowhere unless the bundle has it."""
+    import dataclasses
+
+    from grader.build.release import ReleaseReport, check_named_documents
+    from grader.course_pack import pack
+    from grader.paths import CoursePaths
+
+    course = pack(assignment)
+    paths = CoursePaths(ROOT)
+    report = ReleaseReport()
+    check_named_documents(paths, course, report)
+    assert report.problems == []
+    if course.contract is not None:  # the smoothing notebook sends students to its contract
+        check_named_documents(paths, dataclasses.replace(course, contract=None), report)
+        assert report.problems == [
+            f"00_laplacian_smoothing.py names CONTRACT.md, which the student bundle does not ship: add it to "
+            f"[bundle] files in {course.folder / 'assignment.toml'}, or name a document the bundle has "
+            f"(LIBRARY_POLICY.md, README.md)"
+        ]
