@@ -315,7 +315,7 @@ def main(students: int | None = None) -> dict:
         with tempfile.TemporaryDirectory(prefix="dl-bench-scale-") as tmp:
             root = Path(tmp)
             paths, submitted = _make_class(root, students)
-            common = dict(seed=1, progress=False)
+            common = dict(seed=1, progress=False, assignment="deformation")
             for engine, options in (
                 ("pool", GradeOptions(workers=cores, db_url=f"sqlite:///{root}/pool.db", autograded=root / "a-pool", **common)),
                 ("dask", GradeOptions(scheduler=f"local:{cores}", db_url=f"sqlite:///{root}/dask.db", autograded=root / "a-dask", **common)),
