@@ -45,6 +45,10 @@ def main(students: int | None = None) -> dict:
         root = Path(tmp)
         paths = CoursePaths(root)
         (root / "assignments").mkdir()
+        # A course of its own (the checkout's notebooks, starter/, data/, reference/), so that both graders
+        # grade the sources built here, never an instructor build left in the checkout.
+        for name in ("notebooks", "starter", "data", "reference"):
+            (root / name).symlink_to(repo.root / name)
         sources = build_sources(paths.source, "deformation")
         db = f"sqlite:///{root}/stock.db"
         generate_assignment(paths, "deformation", db)
@@ -75,7 +79,8 @@ def main(students: int | None = None) -> dict:
             print(proc.stderr[-3000:])
         ours_db = f"sqlite:///{root}/ours.db"
         start = time.perf_counter()
-        results = grade_class(submitted, root / "out", GradeOptions(db_url=ours_db, seed=1, progress=False, autograded=root / "ours-autograded"))
+        results = grade_class(submitted, root / "out", GradeOptions(db_url=ours_db, seed=1, progress=False, autograded=root / "ours-autograded"),
+                              paths=paths)
         ours = time.perf_counter() - start
         shutil.rmtree(paths.course / "autograded", ignore_errors=True)
 
