@@ -59,7 +59,6 @@ def unprinted_quotes(nb: nbformat.NotebookNode) -> list[str]:
     return problems
 
 
-
 def _closest(quote: str, numbers: list[float]) -> str:
     """`` (the closest printed number is 0.475)``, for a quote that is a number; empty otherwise."""
     try:

@@ -358,6 +358,11 @@ def _string_constants(source: str) -> set[str]:
     return {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, str)}
 
 
+def _student_sources(paths: CoursePaths, course: Assignment) -> list[Path]:
+    """The jupytext sources of every notebook students get: the pack's stages and its demos."""
+    return [*authored_notebooks(course.name), *(paths.notebooks / d / f"{d}.py" for d in course.demos)]
+
+
 def check_course_files(paths: CoursePaths, course: Assignment, report: ReleaseReport) -> None:
     """Every file of ``data/`` a notebook or demo names (``load_mesh("bar")``, ``"bar.npz"``) is shipped in the bundle.
 
@@ -366,8 +371,7 @@ def check_course_files(paths: CoursePaths, course: Assignment, report: ReleaseRe
     """
     shipped = set(course.data)
     files = {f.name: f for f in paths.data.iterdir() if f.is_file()} if paths.data.is_dir() else {}
-    sources = [*authored_notebooks(course.name), *(paths.notebooks / d / f"{d}.py" for d in course.demos)]
-    for path in sources:
+    for path in _student_sources(paths, course):
         named = set()
         for cell in jupytext.read(path).cells:
             if cell.cell_type == "code":
@@ -394,8 +398,7 @@ def check_named_documents(paths: CoursePaths, course: Assignment, report: Releas
     shipped = {"LIBRARY_POLICY.md", *(f.name for f in (course.contract, *course.bundle_files) if f is not None)}
     if course.readme is not None:
         shipped.add("README.md")
-    sources = [*authored_notebooks(course.name), *(paths.notebooks / d / f"{d}.py" for d in course.demos)]
-    for path in sources:
+    for path in _student_sources(paths, course):
         named = {m.group(1) for cell in jupytext.read(path).cells for m in _DOCUMENT.finditer(cell.source)}
         for name in sorted(named - shipped):
             report.problems.append(
