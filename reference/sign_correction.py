@@ -151,6 +151,11 @@ def optimal_rotation(S):
         np.subtract(1.0, xx + yy, out=R[8])
         return trusted
 
+    def svd_rotations(B):
+        U, _, Vt = np.linalg.svd(B)
+        Vt[np.linalg.det(U @ Vt) < 0, -1, :] *= -1.0
+        return np.swapaxes(U @ Vt, 1, 2)
+
     # Blocks that fit in the CPU cache: the method makes ~300 elementwise passes.
     block = 4096
     R = np.empty((k, 9))
@@ -164,23 +169,6 @@ def optimal_rotation(S):
     if not trusted.all():
         R[~trusted] = svd_rotations(A[~trusted])
     return R.reshape(S.shape)
-
-
-def svd_rotations(S):
-    """The sign-corrected rotations of a stack of 3x3 matrices by their SVD: the slow, always accurate path.
-
-    Parameters
-    ----------
-    S : (k, 3, 3) numpy.ndarray of float
-
-    Returns
-    -------
-    R : (k, 3, 3) numpy.ndarray
-        ``R_i = Ũ D Uᵀ`` for ``S_i = U Σ Ũᵀ``, ``D`` flipping the last column when ``det(Ũ Uᵀ) = -1``.
-    """
-    U, _, Vt = np.linalg.svd(S)
-    Vt[np.linalg.det(U @ Vt) < 0, -1, :] *= -1.0
-    return np.swapaxes(U @ Vt, 1, 2)
 
 
 def rigid_align(P, Q, w=None):
