@@ -112,6 +112,7 @@ RELEASE_RANGE = 0.003
 ADMM_SINGLE_CONDITION = 1e7
 DENSE_MAX = 1000
 DENSE_SPEEDUP = 13.0
+SOLVE_CHUNK = 16
 
 # SymmetricMode with diagonal pivots: H is symmetric positive definite, and
 # SuperLU factors it far faster this way than with partial pivoting
@@ -211,6 +212,16 @@ def _factor(A, permc_spec):
         raise ValueError(f"H must be positive definite: its factorization failed ({error})") from None
 
 
+def _solve_in_chunks(lu, B):
+    """``lu.solve(B)`` for ``B`` ``(k, q)``, in runs of ``SOLVE_CHUNK`` columns when ``lu`` is SuperLU's."""
+    if not isinstance(lu, spla.SuperLU) or B.ndim == 1 or B.shape[1] <= SOLVE_CHUNK:
+        return lu.solve(B)
+    X = np.empty_like(B, order="F")
+    for start in range(0, B.shape[1], SOLVE_CHUNK):
+        X[:, start:start + SOLVE_CHUNK] = lu.solve(np.asfortranarray(B[:, start:start + SOLVE_CHUNK]))
+    return X
+
+
 def _solve(H, G, tol):
     n, m = G.shape
     tol_x = 1e-11
@@ -222,7 +233,7 @@ def _solve(H, G, tol):
     scale = float(abs(H).sum(axis=1).max())
     # about the flops of one sparse factorization of H (Σ column count²)
     sparse_flops = float((np.diff(lu.L.indptr).astype(np.float64) ** 2).sum())
-    X_unconstrained = lu.solve(G)
+    X_unconstrained = _solve_in_chunks(lu, G)
     X = X_unconstrained
     # at_lower[i, j]: x_i = 0 in problem j; at_upper[i, j]: x_i = 1
     at_lower = np.zeros_like(X, dtype=bool)
@@ -289,7 +300,7 @@ def _solve(H, G, tol):
             at_upper[:, j] = False
             at_lower[trailing[lower], j] = True
             at_upper[trailing[upper], j] = True
-        X = lu.solve(G + multipliers)
+        X = _solve_in_chunks(lu, G + multipliers)
         X[at_lower] = 0.0
         X[at_upper] = 1.0
 
@@ -340,7 +351,7 @@ def _admm_active_sets(H, G, X_unconstrained, rho, scale):
     Z_last = Z
     U = X_unconstrained - Z
     for _ in range(ADMM_STEPS):
-        X = ADMM_RELAXATION * lu.solve(G + rho * (Z - U)) + (1.0 - ADMM_RELAXATION) * Z
+        X = ADMM_RELAXATION * _solve_in_chunks(lu, G + rho * (Z - U)) + (1.0 - ADMM_RELAXATION) * Z
         Z, Z_last = np.clip(X + U, 0.0, 1.0), Z
         U += X - Z
     # Skinning weights vanish on whole regions, where ADMM's iterate is still
@@ -515,13 +526,20 @@ class _FreeBlockSolver:
         # 4 Σ column count (see BORDER_BUDGET)
         self.budget = BORDER_BUDGET * float((column_counts**2).sum()) / float(column_counts.sum())
         # every variable that has bordered this block has a slot: its column
-        # b of [H0A E_R] in B, H00⁻¹ b in Y, and the products bᵢᵀ yⱼ in BY
+        # b of [H0A E_R] in B, H00⁻¹ b in Y, and the products bᵢᵀ yⱼ in BY.
+        # B has a few entries per column: it keeps only the rows some column
+        # touches (row[i] is the base position of its row i, compact[p] the
+        # row of base position p or -1)
         self.slot = np.full(len(free), -1)
         self.used = 0
         self.r_solved = None
+        self.compact = np.full(k, -1)
+        self.row = np.empty(0, dtype=np.int64)
         # slots grow as variables border: allocating the whole budget at once
-        # would hold 2 x 8 bytes x budget per base variable
-        self._allocate(16)
+        # would hold 8 bytes x budget per base variable
+        self.Y = np.empty((k, 16), order="F")
+        self.B = np.zeros((64, 16))
+        self.BY = np.empty((16, 16))
 
     def _sparse_flops(self, free):
         """An upper bound on the flops, ``Σ (column count)²``, of a sparse factorization of ``H[free, free]``."""
@@ -530,31 +548,44 @@ class _FreeBlockSolver:
         rows, k, _ = _stored_entries(self.fill, np.flatnonzero(free))
         return float((np.bincount(k[free[rows]]).astype(np.float64) ** 2).sum())
 
-    def _allocate(self, slots):
-        size, used = int(self.position[-1]) + 1, self.used
-        # column-major, so that a run of B's columns goes to SuperLU uncopied
-        B, Y = np.zeros((size, slots), order="F"), np.zeros((size, slots), order="F")
-        BY = np.zeros((slots, slots))
-        if used:
-            B[:, :used], Y[:, :used], BY[:used, :used] = self.B[:, :used], self.Y[:, :used], self.BY[:used, :used]
-        self.B, self.Y, self.BY = B, Y, BY
-
     def _border(self, variables):
         """Give ``variables`` (``(q,)`` int, none with a slot yet) their slots."""
         q, used = len(variables), self.used
-        if used + q > self.B.shape[1]:
-            self._allocate(2 * (used + q))
-        B = self.B[:, used:used + q]
+        # the new columns of B: e_i for a base variable i (a removed one), H's
+        # column restricted to the base for an added one
         on_base = self.base[variables]
-        B[self.position[variables[on_base]], np.flatnonzero(on_base)] = 1.0
         rows, k, values = _stored_entries(self.H, variables[~on_base])
         inside = self.base[rows]
-        B[self.position[rows[inside]], np.flatnonzero(~on_base)[k[inside]]] = values[inside]
-        self.Y[:, used:used + q] = self.lu.solve(B)
-        self.BY[:used + q, used:used + q] = self.B[:, :used + q].T @ self.Y[:, used:used + q]
+        rows = np.concatenate([self.position[variables[on_base]], self.position[rows[inside]]])
+        columns = np.concatenate([np.flatnonzero(on_base), np.flatnonzero(~on_base)[k[inside]]])
+        values = np.concatenate([np.ones(int(on_base.sum())), values[inside]])
+        unseen = np.unique(rows[self.compact[rows] < 0])
+        self.compact[unseen] = len(self.row) + np.arange(len(unseen))
+        self.row = np.concatenate([self.row, unseen])
+        self._reserve(len(self.row), used + q)
+        self.B[self.compact[rows], used + columns] = values
+        B = np.zeros((self.Y.shape[0], q), order="F")
+        B[rows, columns] = values
+        self.Y[:, used:used + q] = _solve_in_chunks(self.lu, B)
+        touched = len(self.row)
+        self.BY[:used + q, used:used + q] = self.B[:touched, :used + q].T @ self.Y[self.row, used:used + q]
         self.BY[used:used + q, :used] = self.BY[:used, used:used + q].T
         self.slot[variables] = used + np.arange(q)
         self.used = used + q
+
+    def _reserve(self, rows, slots):
+        """Room in ``B`` for ``rows`` touched rows and in ``B``, ``Y``, ``BY`` for ``slots`` slots."""
+        used = self.used
+        if slots > self.Y.shape[1]:
+            grown = 2 * slots
+            # column-major, so that a run of Y's columns is one GEMM operand
+            Y, BY = np.empty((self.Y.shape[0], grown), order="F"), np.empty((grown, grown))
+            Y[:, :used], BY[:used, :used] = self.Y[:, :used], self.BY[:used, :used]
+            self.Y, self.BY = Y, BY
+        if rows > self.B.shape[0] or slots > self.B.shape[1]:
+            B = np.zeros((max(rows, 2 * self.B.shape[0]), max(self.Y.shape[1], self.B.shape[1])))
+            B[:self.B.shape[0], :used] = self.B[:, :used]
+            self.B = B
 
     def _base_solve(self, r):
         """``H00⁻¹ r[base]``, kept: ``r`` on the base changes only with the upper set, seldom."""
@@ -581,7 +612,7 @@ class _FreeBlockSolver:
             inside = among[rows] >= 0
             np.add.at(S, (among[rows[inside]], column[inside]), values[inside])
             used = self.used
-            right = -(z @ self.B[:, :used])[slots]
+            right = -(z[self.row] @ self.B[:len(self.row), slots])
             right[:k] += r[added]
             u = np.zeros(used)
             # S is symmetric but indefinite (the removed variables' rows):
