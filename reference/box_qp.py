@@ -102,6 +102,37 @@ from starter.validation import as_float_array
 # side falls out of the box. Dense blocks bordered less (their budget times
 # 0, 0.1, 0.3, 0.5): hand 19, 13, 9, 7 factorizations instead of 6, +3 to
 # +30 % time (2 alternating runs).
+# Issue 27, second round (box_qp alone, new/old CPU, alternating runs in one
+# process): a step that only releases also releases what its Jacobi move
+# makes wrong (_lookahead): square 0.93, U notch 0.97, comb 0.99, holes
+# 1.00, bones 0.91, regions 0.93, L 0.96, hexagon 1.01, hand 1.01 (bordered
+# steps: bones 48 -> 40, square 23 -> 17). Iterating that estimate 2-3
+# rings, or scaling its move by 2-8: no fewer steps, more factorizations.
+# SuperLU's solve slows down past ~16 right-hand sides on 6000-variable
+# blocks (0.09 ms each at 16, 0.17 at 50, 0.26 at 100): SOLVE_CHUNK.
+# Measured and dropped:
+# - With the exact final active sets handed in (no ADMM at all), box_qp
+#   takes 22 ms on the hand (45 with ADMM) and 140 ms on the bones (610):
+#   the hand's columns alone cost 14.5 ms then, 6 factorizations and their
+#   checks, so with the 4 ms outside box_qp the hand cannot reach 0.25 of
+#   igl.bbw's ~125 ms through a better prediction alone.
+# - ADMM's misses are the fronts: variables whose final weight is 1e-6 to
+#   1e-3 (median 2e-3 on the hand, 5e-4 on the bones), which its iterate
+#   leaves at 0; 200 steps still miss 247 of the hand's 2636 free entries.
+#   Anderson acceleration (memory 5) of ADMM: hand +5 to +45 % CPU, bones
+#   -12 to +23 %. Against the lookahead alone, ADMM's steps from half the
+#   graph's diameter (10-40): U notch -8 %, comb -14 %, hand -4 %, but bones
+#   +10 %, holes +5 %; 40 steps: U notch -20 %, comb -17 %, regions -11 %,
+#   but bones +5 %, hand +13 %. The two worst members want 25 or fewer.
+# - A coarse Galerkin predictor (a maximal independent set of the mesh's
+#   free vertices, averaging interpolation P, box_qp on PᵀHP): on the bones
+#   it misses 22 free entries instead of ADMM's 2065 but frees 13,900 that
+#   end at 0, and its own solve takes 233 ms: 46 factorizations, 2x slower.
+# - A dense free block grown in place ([[L, 0], [Cᵀ, L₂₂]]) and shrunk by
+#   refactoring its tail, instead of bordering: hand +6 %.
+# - Releasing whole rings ahead of a front that crept 2-4 steps, or solving
+#   the box problem on the bound variables within 8 rings of it (dense, at
+#   most 800 / 3000 of them): more factorizations, or bones -3 % / +20 %.
 ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
@@ -170,9 +201,11 @@ def box_qp(H, G, tol=1e-9):
     nothing drives (a zero right-hand side: their minimizer is 0) start at
     the lower bound instead of in the block. A variable is released from its
     bound only when its multiplier is wrong by more than half of ``tol`` and
-    by at least RELEASE_RANGE of the step's worst, and the iterations stop as soon as the KKT conditions hold to ``tol``: the
-    last steps of an exact active-set solver only move variables within 1e-7
-    of a bound.
+    by at least RELEASE_RANGE of the step's worst; a step that only releases
+    also releases the bound variables whose multipliers the released ones'
+    move (estimated by a Jacobi step) turns wrong. The iterations stop as
+    soon as the KKT conditions hold to ``tol``: the last steps of an exact
+    active-set solver only move variables within 1e-7 of a bound.
     """
     if sp.issparse(H):
         H = sp.csc_matrix(H, dtype=np.float64)

@@ -406,6 +406,39 @@ def test_releasing_the_clearly_wrong_multipliers_first_saves_factorizations_and_
     np.testing.assert_allclose(X, X_all, atol=1e-7)
 
 
+def test_releasing_one_ring_ahead_saves_active_set_steps_and_gives_the_same_weights(monkeypatch):
+    """A step that only releases also releases the neighbours its Jacobi move would make wrong: fewer steps."""
+    H, G = square_problem()
+    X, steps, _ = solve_counting(monkeypatch, H, G)
+    monkeypatch.setattr(box_qp_module, "_lookahead", lambda H, diagonal, gradient, lower, upper, release, tol: release)
+    X_ring, steps_ring, _ = solve_counting(monkeypatch, H, G)
+    assert steps < steps_ring
+    for x, g in zip(X.T, G.T):
+        assert kkt_residual(H, g, x) <= 1e-9
+    np.testing.assert_allclose(X, X_ring, atol=1e-7)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seeds, st.integers(3, 40))
+def test_lookahead_adds_exactly_the_bound_variables_whose_predicted_multiplier_turns_wrong(seed, n):
+    rng = np.random.default_rng(seed)
+    H = chain_biharmonic(n)
+    bound = rng.random(n) < 0.7
+    lower = bound & (rng.random(n) < 0.5)
+    upper = bound & ~lower
+    gradient = rng.normal(size=n)
+    release = (lower & (gradient < 0)) | (upper & (gradient > 0))
+    tol = 1e-3
+    released = box_qp_module._lookahead(H, H.diagonal(), gradient, lower, upper, release, tol)
+    # each released variable moves to where its own gradient would vanish
+    moved = np.zeros(n)
+    moved[release] = -gradient[release] / H.diagonal()[release]
+    predicted = gradient + H.toarray() @ moved
+    wrong = (lower & (predicted < -tol)) | (upper & (predicted > tol))
+    np.testing.assert_array_equal(released, release | wrong)
+    assert not (released & ~bound).any()
+
+
 @settings(max_examples=60, deadline=None)
 @given(seeds, st.integers(2, 60), st.floats(0.05, 1.0))
 def test_the_sparse_flops_estimate_bounds_the_block_factorization_from_above(seed, n, free_fraction):
