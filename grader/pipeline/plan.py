@@ -7,7 +7,7 @@ makes the self-contained :class:`grader.pipeline.unit.UnitSpec` a worker grades.
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from grader.course_pack import default_assignment
@@ -65,6 +65,7 @@ def plan_units(submitted: Path, sources: list[Path], options: GradeOptions, rost
     units = []
     for sid in sorted(set(folders) | set(roster)):
         folder = folders.get(sid)
+        first = len(units)
         for source in sources:
             notebook = source.stem
             path = None
@@ -78,7 +79,41 @@ def plan_units(submitted: Path, sources: list[Path], options: GradeOptions, rost
                 except OSError as exc:  # an unreadable folder costs its own student only
                     notes = [f"cannot read the submission folder: {exc.strerror}"]
             units.append(PlannedUnit(sid, notebook, path, source, tuple(notes), folder is not None))
+        if folder is not None and not folder.is_symlink():
+            _name_unmatched_notebooks(units, first, folder / assignment)
     return units
+
+
+def _name_unmatched_notebooks(units: list[PlannedUnit], first: int, folder: Path) -> None:
+    """Tell each of a student's missing notebooks about the files of ``folder`` that no notebook claimed.
+
+    A notebook saved under another name without its metadata (a fresh notebook
+    the code was pasted into, an export that strips metadata) is graded as
+    nothing; the TA reading "no 03_arap.ipynb was submitted" then learns which
+    files were there, and can rename one and grade that student again.
+    """
+    if not folder.is_dir() or folder.is_symlink():  # a linked folder is not listed (find_submission neither)
+        return
+    try:
+        present = sorted(folder.glob("*.ipynb"))
+    except OSError:
+        return
+    claimed = {u.submission for u in units[first:] if u.submission is not None}
+    unmatched = [p.name for p in present if p not in claimed]
+    if not unmatched:
+        return
+    shown = ", ".join(_shown_name(name) for name in unmatched[:5]) + (f" and {len(unmatched) - 5} more" if len(unmatched) > 5 else "")
+    note = (f"{folder.name}/ holds {shown}, which no notebook of this assignment claims "
+            "(neither by its file name nor by the notebook name in its metadata)")
+    for i in range(first, len(units)):
+        if units[i].submission is None and not units[i].notes:
+            units[i] = replace(units[i], notes=(note,))
+
+
+def _shown_name(name: str) -> str:
+    """A student's file name as a TA may read it: printable, at most 60 characters, quoted."""
+    printable = "".join(ch if ch.isprintable() else "?" for ch in name)
+    return repr(printable if len(printable) <= 60 else printable[:57] + "...")
 
 
 

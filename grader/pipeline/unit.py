@@ -468,10 +468,11 @@ def _wrong_output_digest(case, collected, k: int) -> str | None:
 
 
 def _ungraded(unit: Unit, status: str, reason: str, shown: str | None = None) -> dict:
-    """Zero on every cell, the reason on the feedback page, no executed notebook."""
+    """Zero on every cell, the reason and the planning's notes on the feedback page, no executed notebook."""
     spec = unit.spec
     return zero_result(spec, unit.source, status, reason, unit.started) | {
-        "feedback_html": feedback_html(spec, [], [shown or reason]),
+        "notes": list(spec.notes),
+        "feedback_html": feedback_html(spec, [], [shown or reason, *spec.notes]),
         "autograded_notebook": None,
     }
 

@@ -183,3 +183,29 @@ def test_a_syntax_error_is_named_where_the_student_wrote_it_not_as_a_name_error(
     assert unit["reasons"] == ["the cell defining centroid(): SyntaxError: '(' was never closed (line 5 of the cell)"]
     page = (out / "feedback" / "sam" / f"{NOTEBOOK}.html").read_text()
     assert "ipykernel" not in page and ".py, line" not in page and "NameError: centroid" not in page
+
+
+def test_a_missing_notebook_names_the_files_no_notebook_claimed_and_a_linked_folder_says_so(tmp_path, source_notebooks):
+    """A notebook saved under another name without its metadata, or a student folder that is a link: the TA reads why."""
+    submitted = tmp_path / "submitted"
+    dave = submitted / "dave" / "deformation"
+    dave.mkdir(parents=True)
+    nbformat.write(nbformat.v4.new_notebook(), dave / "scratch.ipynb")  # pasted into a fresh notebook: no metadata
+    (dave / "bad\nname.ipynb").write_bytes(b"{}")
+    elsewhere = tmp_path / "elsewhere" / "deformation"
+    elsewhere.mkdir(parents=True)
+    nbformat.write(as_student(source_notebooks[NOTEBOOK]), elsewhere / f"{NOTEBOOK}.ipynb")
+    (submitted / "erin").symlink_to(elsewhere.parent, target_is_directory=True)
+    out = tmp_path / "out"
+    assert main(["grade", str(submitted), "--out", str(out), "--workers", "1", "--timeout", "20",
+                 "--db", f"sqlite:///{tmp_path}/gb.db"]) == 0
+    log = {(r["student_id"], r["notebook"]): r for r in map(json.loads, (out / "log.jsonl").read_text().splitlines())}
+    for notebook in source_notebooks:
+        dave_row, erin_row = log[("dave", notebook)], log[("erin", notebook)]
+        assert dave_row["status"] == erin_row["status"] == "missing"
+        (note,) = dave_row["notes"]
+        assert "'scratch.ipynb'" in note and "'bad?name.ipynb'" in note and "no notebook of this assignment claims" in note
+        assert erin_row["notes"] == ["the submission folder is a link, which is not followed"]
+    page = (out / "feedback" / "dave" / f"{NOTEBOOK}.html").read_text()
+    assert "scratch.ipynb" in page and "bad\nname" not in page
+    assert {r["student_id"] for r in rows(out)} == {"dave", "erin"}
