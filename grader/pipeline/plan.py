@@ -89,7 +89,7 @@ def _name_unmatched_notebooks(units: list[PlannedUnit], first: int, folder: Path
 
     A notebook saved under another name without its metadata (a fresh notebook
     the code was pasted into, an export that strips metadata) is graded as
-    nothing; the TA reading "no 03_arap.ipynb was submitted" then learns which
+    nothing; the TA reading "no <notebook>.ipynb was submitted" then learns which
     files were there, and can rename one and grade that student again.
     """
     if not folder.is_dir() or folder.is_symlink():  # a linked folder is not listed (find_submission neither)
