@@ -26,19 +26,43 @@ def find_submission(folder: Path, notebook: str) -> tuple[Path | None, list[str]
     notebook size cap, and whatever fails to parse (deep nesting included) is
     passed over; it never raises for a file's content.
     """
-    exact = folder / f"{notebook}.ipynb"
-    if exact.is_file() or exact.is_symlink():
-        return exact, []
-    if folder.is_dir() and not folder.is_symlink():
-        for candidate in sorted(folder.glob("*.ipynb")):
+    return _SubmissionFolder(folder).find(notebook)
+
+
+class _SubmissionFolder:
+    """A student's assignment folder, listed once and each candidate's metadata read once, for all its notebooks."""
+
+    def __init__(self, folder: Path):
+        self.folder = folder
+        self._listed: list[Path] | None = None
+        self._named: dict[Path, object] = {}
+
+    def listed(self) -> list[Path]:
+        """The folder's ``*.ipynb`` entries, sorted; none if it is a link (never followed) or missing."""
+        if self._listed is None:
+            linked = not self.folder.is_dir() or self.folder.is_symlink()
+            self._listed = [] if linked else sorted(self.folder.glob("*.ipynb"))
+        return self._listed
+
+    def find(self, notebook: str) -> tuple[Path | None, list[str]]:
+        """As ``find_submission``."""
+        exact = self.folder / f"{notebook}.ipynb"
+        if exact.is_file() or exact.is_symlink():
+            return exact, []
+        for candidate in self.listed():
+            if self._notebook_named(candidate) == notebook:
+                return candidate, [f"graded {candidate.name} as {notebook}.ipynb (renamed file)"]
+        return None, []
+
+    def _notebook_named(self, candidate: Path) -> object:
+        if candidate not in self._named:
             try:
                 meta = json.loads(read_submission_bytes(candidate)).get("metadata", {})
                 named = (meta.get("deformlab") or {}).get("notebook") if isinstance(meta, dict) else None
             except Exception:  # noqa: BLE001 - RecursionError, MemoryError, anything: not this notebook
-                continue
-            if named == notebook:
-                return candidate, [f"graded {candidate.name} as {notebook}.ipynb (renamed file)"]
-    return None, []
+                named = None
+            self._named[candidate] = named
+        return self._named[candidate]
 
 
 @dataclass(frozen=True)
@@ -65,45 +89,44 @@ def plan_units(submitted: Path, sources: list[Path], options: GradeOptions, rost
     units = []
     for sid in sorted(set(folders) | set(roster)):
         folder = folders.get(sid)
+        student = _SubmissionFolder(folder / assignment) if folder is not None and not folder.is_symlink() else None
         first = len(units)
         for source in sources:
             notebook = source.stem
             path = None
             if folder is None:
                 notes = ["no submission folder for this student"]
-            elif folder.is_symlink():
+            elif student is None:
                 notes = ["the submission folder is a link, which is not followed"]
             else:
                 try:
-                    path, notes = find_submission(folder / assignment, notebook)
+                    path, notes = student.find(notebook)
                 except OSError as exc:  # an unreadable folder costs its own student only
                     notes = [f"cannot read the submission folder: {exc.strerror}"]
             units.append(PlannedUnit(sid, notebook, path, source, tuple(notes), folder is not None))
-        if folder is not None and not folder.is_symlink():
-            _name_unmatched_notebooks(units, first, folder / assignment)
+        if student is not None:
+            _name_unmatched_notebooks(units, first, student)
     return units
 
 
-def _name_unmatched_notebooks(units: list[PlannedUnit], first: int, folder: Path) -> None:
-    """Tell each of a student's missing notebooks about the files of ``folder`` that no notebook claimed.
+def _name_unmatched_notebooks(units: list[PlannedUnit], first: int, student: _SubmissionFolder) -> None:
+    """Tell each of a student's missing notebooks about the files of its folder that no notebook claimed.
 
     A notebook saved under another name without its metadata (a fresh notebook
     the code was pasted into, an export that strips metadata) is graded as
     nothing; the TA reading "no <notebook>.ipynb was submitted" then learns which
     files were there, and can rename one and grade that student again.
     """
-    if not folder.is_dir() or folder.is_symlink():  # a linked folder is not listed (find_submission neither)
-        return
     try:
-        present = sorted(folder.glob("*.ipynb"))
-    except OSError:
+        present = student.listed()
+    except OSError:  # already noted on each of the student's units
         return
     claimed = {u.submission for u in units[first:] if u.submission is not None}
     unmatched = [p.name for p in present if p not in claimed]
     if not unmatched:
         return
     shown = ", ".join(_shown_name(name) for name in unmatched[:5]) + (f" and {len(unmatched) - 5} more" if len(unmatched) > 5 else "")
-    note = (f"{folder.name}/ holds {shown}, which no notebook of this assignment claims "
+    note = (f"{student.folder.name}/ holds {shown}, which no notebook of this assignment claims "
             "(neither by its file name nor by the notebook name in its metadata)")
     for i in range(first, len(units)):
         if units[i].submission is None and not units[i].notes:
@@ -114,7 +137,6 @@ def _shown_name(name: str) -> str:
     """A student's file name as a TA may read it: printable, at most 60 characters, quoted."""
     printable = "".join(ch if ch.isprintable() else "?" for ch in name)
     return repr(printable if len(printable) <= 60 else printable[:57] + "...")
-
 
 
 def unit_spec(unit: PlannedUnit, seed: int, options: GradeOptions, source_text: str) -> UnitSpec:
