@@ -51,7 +51,7 @@ class _SubmissionFolder:
             return exact, []
         for candidate in self.listed():
             if self._notebook_named(candidate) == notebook:
-                return candidate, [f"graded {candidate.name} as {notebook}.ipynb (renamed file)"]
+                return candidate, [f"graded {_shown_name(candidate.name)} as {notebook}.ipynb (renamed file)"]
         return None, []
 
     def _notebook_named(self, candidate: Path) -> object:

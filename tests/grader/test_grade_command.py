@@ -186,7 +186,10 @@ def test_a_syntax_error_is_named_where_the_student_wrote_it_not_as_a_name_error(
 
 
 def test_a_missing_notebook_names_the_files_no_notebook_claimed_and_a_linked_folder_says_so(tmp_path, source_notebooks):
-    """A notebook saved under another name without its metadata, or a student folder that is a link: the TA reads why."""
+    """A notebook saved under another name without its metadata, or a student folder that is a link: the TA reads why.
+
+    Every student's file name a note shows is made printable first, a renamed notebook's too.
+    """
     submitted = tmp_path / "submitted"
     dave = submitted / "dave" / "deformation"
     dave.mkdir(parents=True)
@@ -196,6 +199,9 @@ def test_a_missing_notebook_names_the_files_no_notebook_claimed_and_a_linked_fol
     elsewhere.mkdir(parents=True)
     nbformat.write(as_student(source_notebooks[NOTEBOOK]), elsewhere / f"{NOTEBOOK}.ipynb")
     (submitted / "erin").symlink_to(elsewhere.parent, target_is_directory=True)
+    frank = submitted / "frank" / "deformation"
+    frank.mkdir(parents=True)
+    nbformat.write(as_student(source_notebooks[NOTEBOOK]), frank / "x\x1b[2Jy.ipynb")  # renamed; a terminal escape in its name
     out = tmp_path / "out"
     assert main(["grade", str(submitted), "--out", str(out), "--workers", "1", "--timeout", "20",
                  "--db", f"sqlite:///{tmp_path}/gb.db"]) == 0
@@ -206,6 +212,7 @@ def test_a_missing_notebook_names_the_files_no_notebook_claimed_and_a_linked_fol
         (note,) = dave_row["notes"]
         assert "'scratch.ipynb'" in note and "'bad?name.ipynb'" in note and "no notebook of this assignment claims" in note
         assert erin_row["notes"] == ["the submission folder is a link, which is not followed"]
+    assert log[("frank", NOTEBOOK)]["notes"] == [f"graded 'x?[2Jy.ipynb' as {NOTEBOOK}.ipynb (renamed file)"]
     page = (out / "feedback" / "dave" / f"{NOTEBOOK}.html").read_text()
     assert "scratch.ipynb" in page and "bad\nname" not in page
-    assert {r["student_id"] for r in rows(out)} == {"dave", "erin"}
+    assert {r["student_id"] for r in rows(out)} == {"dave", "erin", "frank"}
