@@ -265,7 +265,8 @@ def _solve(H, G, tol):
         raise ValueError("H must be positive definite: its factorization has a non-positive pivot")
     scale = float(abs(H).sum(axis=1).max())
     # about the flops of one sparse factorization of H (Σ column count²)
-    sparse_flops = float((np.diff(lu.L.indptr).astype(np.float64) ** 2).sum())
+    L = lu.L  # a copy of the factor, made anew at each access
+    sparse_flops = float((np.diff(L.indptr).astype(np.float64) ** 2).sum())
     X_unconstrained = _solve_in_chunks(lu, G)
     X = X_unconstrained
     # at_lower[i, j]: x_i = 0 in problem j; at_upper[i, j]: x_i = 1
@@ -298,7 +299,7 @@ def _solve(H, G, tol):
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
             # lu's L is in that order too: the pattern of every block's factor
             # lies within it (see _FreeBlockSolver.fill)
-            fill = lu.L
+            fill = L
             X = np.empty((n, m))
             for j in range(m):
                 X[order, j] = _sparse_active_set(
@@ -516,7 +517,8 @@ class _FreeBlockSolver:
     pattern of ``H``'s own factor in the same order, restricted to the block
     (which contains the block factor's pattern: eliminating fewer variables
     fills in no more). Small blocks of tetrahedral meshes factor faster dense;
-    those of triangle meshes, with far less fill, never do.
+    those of triangle meshes, with far less fill, never do. The same bounds
+    on the column counts set a sparse block's bordering budget.
 
     ``H`` is CSC with sorted indices in the order every block keeps,
     ``columns`` the column of each stored entry (see ``_principal_submatrix``)
@@ -527,7 +529,9 @@ class _FreeBlockSolver:
     def __init__(self, H, columns, fill):
         self.H = H
         self.columns = columns
-        self.fill = fill
+        # fill's pattern, transposed (CSR, unit entries): its product with a
+        # block's 0/1 indicator counts each column's entries in the block
+        self.fill = sp.csr_matrix((np.ones(fill.nnz), fill.indices, fill.indptr), shape=fill.shape[::-1])
         self.base = None
 
     def solve(self, free, r):
@@ -547,12 +551,14 @@ class _FreeBlockSolver:
     def _refactor(self, free):
         block = _principal_submatrix(self.H, self.columns, free)
         k = block.shape[0]
-        if k <= DENSE_MAX and k**3 / 3 <= DENSE_SPEEDUP * self._sparse_flops(free):
+        # bounds, not SuperLU's own counts: reading those (lu.L, a copy of
+        # the factor) took 1.3 ms of a 10 ms factorization on the character
+        column_counts = self._column_counts(free)
+        if k <= DENSE_MAX and k**3 / 3 <= DENSE_SPEEDUP * float((column_counts**2).sum()):
             self.lu = _DenseCholesky(block)
             column_counts = np.arange(k, 0, -1, dtype=np.float64)
         else:
             self.lu = _factor(block, "NATURAL")
-            column_counts = np.diff(self.lu.L.indptr).astype(np.float64)
         self.base = free.copy()
         self.position = np.cumsum(free) - 1  # of each base variable in the block
         # a factorization costs about Σ (column count)² flops, a solve about
@@ -575,12 +581,9 @@ class _FreeBlockSolver:
         self.B = np.zeros((64, 16))
         self.BY = np.empty((16, 16))
 
-    def _sparse_flops(self, free):
-        """An upper bound on the flops, ``Σ (column count)²``, of a sparse factorization of ``H[free, free]``."""
-        # only the block's columns of the factor: a small block costs little
-        # to estimate on a large mesh
-        rows, k, _ = _stored_entries(self.fill, np.flatnonzero(free))
-        return float((np.bincount(k[free[rows]]).astype(np.float64) ** 2).sum())
+    def _column_counts(self, free):
+        """Upper bounds on the column counts of a sparse factor of ``H[free, free]``, ``(k,)``."""
+        return (self.fill @ free.astype(np.float64))[free]
 
     def _border(self, variables):
         """Give ``variables`` (``(q,)`` int, none with a slot yet) their slots."""

@@ -441,8 +441,8 @@ def test_lookahead_adds_exactly_the_bound_variables_whose_predicted_multiplier_t
 
 @settings(max_examples=60, deadline=None)
 @given(seeds, st.integers(2, 60), st.floats(0.05, 1.0))
-def test_the_sparse_flops_estimate_bounds_the_block_factorization_from_above(seed, n, free_fraction):
-    """The full factor's pattern restricted to a free block contains the block factor's: Σ (column count)² bounds it."""
+def test_the_column_count_estimate_bounds_the_block_factor_column_by_column(seed, n, free_fraction):
+    """The full factor's pattern restricted to a free block contains the block factor's: it bounds every column count."""
     rng = np.random.default_rng(seed)
     A = sp.random(n, n, density=0.1, random_state=rng, format="csc")
     H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
@@ -452,8 +452,12 @@ def test_the_sparse_flops_estimate_bounds_the_block_factorization_from_above(see
     columns = np.repeat(np.arange(n), np.diff(H.indptr))
     blocks = box_qp_module._FreeBlockSolver(H, columns, cholesky_factor(H))
     block = box_qp_module._factor(box_qp_module._principal_submatrix(H, columns, free), "NATURAL")
-    column_counts = np.diff(block.L.indptr).astype(np.float64)
-    assert blocks._sparse_flops(free) >= (column_counts**2).sum()
+    # SuperLU may postorder the block's elimination tree: an equivalent order
+    # with the same column counts, permuted, so compare them sorted
+    column_counts = np.sort(np.diff(block.L.indptr))
+    bounds = np.sort(blocks._column_counts(free))
+    assert bounds.shape == column_counts.shape
+    assert (bounds >= column_counts).all()
 
 
 def test_dense_blocks_factor_the_tetrahedral_hand_and_give_the_same_weights(monkeypatch):
