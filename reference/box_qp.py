@@ -259,14 +259,17 @@ def _solve(H, G, tol):
     n, m = G.shape
     tol_x = 1e-11
     lu = _factor(H, "MMD_AT_PLUS_A")
+    U = lu.U  # a copy of the factor, made anew at each access: read once
     # without pivoting SuperLU factors any nonsingular symmetric matrix:
     # an indefinite H shows as a negative pivot
-    if (lu.U.diagonal() <= 0).any():
+    if (U.diagonal() <= 0).any():
         raise ValueError("H must be positive definite: its factorization has a non-positive pivot")
     scale = float(abs(H).sum(axis=1).max())
+    # symmetric mode factors H = L D Lᵀ and keeps U = D Lᵀ: U's rows are the
+    # columns of H's Cholesky factor. fill holds that pattern (unit entries).
+    fill = sp.csc_matrix((np.ones(U.nnz), U.indices, U.indptr), shape=(n, n))
     # about the flops of one sparse factorization of H (Σ column count²)
-    L = lu.L  # a copy of the factor, made anew at each access
-    sparse_flops = float((np.diff(L.indptr).astype(np.float64) ** 2).sum())
+    sparse_flops = float((np.bincount(U.indices, minlength=n).astype(np.float64) ** 2).sum())
     X_unconstrained = _solve_in_chunks(lu, G)
     X = X_unconstrained
     # at_lower[i, j]: x_i = 0 in problem j; at_upper[i, j]: x_i = 1
@@ -297,9 +300,8 @@ def _solve(H, G, tol):
             )
             at_lower, at_upper = _widened(H_ordered, at_lower, at_upper)
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
-            # lu's L is in that order too: the pattern of every block's factor
-            # lies within it (see _FreeBlockSolver.fill)
-            fill = L
+            # fill is in that order too: the pattern of every block's factor
+            # lies within it (see _FreeBlockSolver)
             X = np.empty((n, m))
             for j in range(m):
                 X[order, j] = _sparse_active_set(
@@ -522,16 +524,16 @@ class _FreeBlockSolver:
 
     ``H`` is CSC with sorted indices in the order every block keeps,
     ``columns`` the column of each stored entry (see ``_principal_submatrix``)
-    and ``fill`` ``(n, n)`` CSC, a lower triangular factor of ``H`` in that
-    order (only its pattern matters).
+    and ``fill`` ``(n, n)`` sparse, the pattern of an upper triangular factor
+    of ``H`` in that order, with unit entries: its product with a block's 0/1
+    indicator counts the entries of each column of the lower factor (each row
+    of ``fill``) within the block.
     """
 
     def __init__(self, H, columns, fill):
         self.H = H
         self.columns = columns
-        # fill's pattern, transposed (CSR, unit entries): its product with a
-        # block's 0/1 indicator counts each column's entries in the block
-        self.fill = sp.csr_matrix((np.ones(fill.nnz), fill.indices, fill.indptr), shape=fill.shape[::-1])
+        self.fill = fill
         self.base = None
 
     def solve(self, free, r):
@@ -653,8 +655,11 @@ class _FreeBlockSolver:
             right[:k] += r[added]
             u = np.zeros(used)
             # S is symmetric but indefinite (the removed variables' rows):
-            # LDLᵀ, without scipy's structure detection
-            u[slots] = scipy.linalg.solve(S, right, check_finite=False, assume_a="sym")
+            # LAPACK's LDLᵀ, without scipy.linalg.solve's checks (a few µs
+            # instead of ~20)
+            _, _, u[slots], info = scipy.linalg.lapack.dsysv(S, right)
+            if info != 0:
+                raise ValueError("H must be positive definite: a bordered free block is singular")
             z -= self.Y[:, :used] @ u
             x[added] = u[slots[:k]]
         x[self.base] = z
@@ -664,15 +669,19 @@ class _FreeBlockSolver:
 class _DenseCholesky:
     """The Cholesky factor of a sparse SPD matrix ``A`` ``(k, k)``, held dense; ``solve`` as SuperLU's."""
 
+    # LAPACK's own routines: scipy.linalg's wrappers (cho_factor, cho_solve)
+    # check and copy their arguments, 10-40 µs a call, and the tetrahedral
+    # hand makes ~30 calls of 0.05-1 ms each
+
     def __init__(self, A):
-        try:
-            self.factor = scipy.linalg.cho_factor(A.toarray(), check_finite=False)
-        except np.linalg.LinAlgError as error:
-            raise ValueError(f"H must be positive definite: its factorization failed ({error})") from None
+        self.factor, info = scipy.linalg.lapack.dpotrf(A.toarray(order="F"), lower=False, clean=False, overwrite_a=True)
+        if info != 0:
+            raise ValueError(f"H must be positive definite: its dense Cholesky factorization failed (LAPACK info {info})")
 
     def solve(self, b):
         """``A⁻¹ b`` for ``b`` ``(k,)`` or ``(k, q)``."""
-        return scipy.linalg.cho_solve(self.factor, b, check_finite=False)
+        x, _ = scipy.linalg.lapack.dpotrs(self.factor, b, lower=False)
+        return x
 
 
 def _stored_entries(H, variables):
@@ -726,8 +735,8 @@ def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt):
 
     ``H`` is CSC with sorted indices, its variables in a fill-reducing order
     that every free block keeps, and ``columns`` the column of each of its
-    stored entries (see ``_principal_submatrix``), and ``fill`` ``H``'s
-    factor in that order (see ``_FreeBlockSolver``); ``lower`` and
+    stored entries (see ``_principal_submatrix``), and ``fill`` the pattern
+    of ``H``'s factor in that order (see ``_FreeBlockSolver``); ``lower`` and
     ``upper`` are ``(n,)`` bool, the initial active sets.
 
     Returns ``x`` ``(n,)``, in the box exactly.
