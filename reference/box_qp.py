@@ -745,7 +745,10 @@ def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt):
     max_iter = 100 + 5 * n
     seen, murty = set(), False
     blocks = _FreeBlockSolver(H, columns, fill)
-    lower = lower | _idle(H, columns, ~(lower | upper), g - H @ upper.astype(np.float64))
+    # the free block's right-hand side, g - H[free, upper] 1, on every
+    # variable; it changes only when the upper set does
+    r = g - H @ upper.astype(np.float64)
+    lower = lower | _idle(H, columns, ~(lower | upper), r)
     # A multiplier within this of zero is left alone: such a variable costs at
     # most half the tolerance where it is, and releasing it on the sign of
     # roundoff (a weight's zero region is degenerate: its gradient there is 0)
@@ -756,7 +759,6 @@ def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt):
         free = ~(lower | upper)
         x = upper.astype(np.float64)
         if free.any():
-            r = g - H @ x  # H[free, upper] 1 is (H 1_upper)[free]
             x[free] = blocks.solve(free, r)
             gradient = H @ x - g
             if not np.array_equal(blocks.base, free) and np.abs(gradient[free]).max() > 0.1 * tol_kkt:
@@ -787,7 +789,10 @@ def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt):
             if not (below.any() or above.any() or murty):
                 # a step that only releases: release one ring ahead too
                 release = _lookahead(H, diagonal, gradient, lower, upper, release, tol_release)
-        lower, upper, murty = _next_active_sets(lower, upper, below, above, release, seen, murty)
+        lower, upper_next, murty = _next_active_sets(lower, upper, below, above, release, seen, murty)
+        if not np.array_equal(upper_next, upper):
+            r = g - H @ upper_next.astype(np.float64)
+        upper = upper_next
     raise RuntimeError(
         f"box_qp: the active-set solver did not converge in {max_iter} iterations "
         f"(KKT residual {np.abs(residual).max():.3g}, tolerance {tol_kkt:.3g})"
