@@ -133,6 +133,23 @@ from starter.validation import as_float_array
 # - Releasing whole rings ahead of a front that crept 2-4 steps, or solving
 #   the box problem on the bound variables within 8 rings of it (dense, at
 #   most 800 / 3000 of them): more factorizations, or bones -3 % / +20 %.
+# Issue 27, third round, measured and dropped:
+# - Each column's first step factors the predicted block, then pins 60-1000
+#   of it and factors again (5 of the bones' 16 factorizations). Pinning
+#   first where 20-40 Jacobi-preconditioned CG steps from ADMM's iterate go
+#   negative catches 79 of 81 such pins on one column but 90 of 1046 on
+#   another: 16 -> 15 factorizations, time within noise. ADMM's unclipped
+#   iterate, or the gradient at it, does not separate the free variables it
+#   misses from the ones rightly at 0 (bones: 20 of 199 caught, 22 wrongly).
+# - METIS nested dissection (pymetis) instead of MMD: as much fill (bones
+#   1.22M against 1.24M entries, hand 153k against 133k) and a slower
+#   ordering (56 against 12 ms on the bones); COLAMD, MMD on AᵀA and reverse
+#   Cuthill-McKee fill more.
+# - Forward solves only (S = Wᵀ D⁻¹ W, W = L⁻¹ B): SuperLU's column-wise
+#   triangular solve (what spsolve_triangular calls) takes 80 % of the
+#   supernodal full solve for 8-64 right-hand sides.
+# - ADMM_STEPS 20 or 15 instead of 25: per member erratic (20: bones -7 %
+#   but regions +19 %, square and U notch +5 %; 15: bones +19 %).
 ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
