@@ -504,12 +504,16 @@ def _principal_submatrix(A, columns, keep):
     ``columns`` ``(nnz,)`` is the column of each stored entry of ``A``;
     ``keep`` is ``(n,)`` bool.
     """
-    entries = keep[A.indices] & keep[columns]
-    renumber = np.cumsum(keep) - 1
+    entries = keep[A.indices]
+    entries &= keep[columns]
+    # positions, then integer takes: numpy's boolean-mask gathers were 3x
+    # slower (2.0 against 0.6 ms for 60 % of the character's H)
+    entries = np.flatnonzero(entries)
+    renumber = np.cumsum(keep, dtype=np.int32) - 1
     k = int(renumber[-1]) + 1
-    indptr = np.zeros(k + 1, dtype=np.int64)
-    np.cumsum(np.bincount(renumber[columns[entries]], minlength=k), out=indptr[1:])
-    return sp.csc_matrix((A.data[entries], renumber[A.indices[entries]], indptr), shape=(k, k))
+    indptr = np.zeros(k + 1, dtype=np.int32)
+    np.cumsum(np.bincount(renumber.take(columns.take(entries)), minlength=k), out=indptr[1:])
+    return sp.csc_matrix((A.data.take(entries), renumber.take(A.indices.take(entries)), indptr), shape=(k, k))
 
 
 class _FreeBlockSolver:
@@ -740,10 +744,13 @@ def _lookahead(H, diagonal, gradient, lower, upper, release, tol_release):
     and that move changes its neighbours' gradients by ``H`` times it: where a
     neighbour's multiplier then has the wrong sign, the next step would
     release it anyway, one ring later. ``H`` ``(n, n)`` sparse, ``diagonal``
-    its diagonal, ``gradient`` ``H x - g``; masks ``(n,)`` bool.
+    its diagonal (CSC), ``gradient`` ``H x - g``; masks ``(n,)`` bool.
     """
-    step = np.where(release, -gradient / diagonal, 0.0)
-    predicted = gradient + H @ step
+    moved = np.flatnonzero(release)
+    # only the released columns of H: a few dozen, not a product with all of H
+    rows, k, values = _stored_entries(H, moved)
+    step = -gradient[moved] / diagonal[moved]
+    predicted = gradient + np.bincount(rows, weights=values * step[k], minlength=len(gradient))
     return release | (lower & (predicted < -tol_release)) | (upper & (predicted > tol_release))
 
 
