@@ -2,10 +2,12 @@
 
 import functools
 
+import cvxopt
 import numpy as np
 import scipy
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from cvxopt import cholmod
 from scipy.sparse.csgraph import connected_components
 from threadpoolctl import ThreadpoolController
 
@@ -45,21 +47,20 @@ from starter.validation import as_float_array
 #   the family as above, 0 -> 0.003: 14 -> 10, 34 -> 24, 72 -> 59, 24 -> 17,
 #   30 -> 23, 22 -> 16, 230 -> 172, 0 -> 0, 13 -> 13; CPU -7, -15, -9, -13,
 #   0, -23, -10, 0, 0 % (3 alternating runs). 0.0003-0.03 within noise.
-# - DENSE_SPEEDUP, DENSE_MAX: a free block is factored dense when its k³/3
-#   flops are at most DENSE_SPEEDUP times the sparse estimate (and k at most
-#   DENSE_MAX). On the tetrahedral hand's blocks (k 150-640), LAPACK's
-#   Cholesky beat SuperLU at flop ratios 8-13 (0.05 against 0.26 ms at k =
-#   151, 0.77 against 1.6 ms at k = 442) and lost at 25 (k = 641: 2.9
-#   against 1.4 ms); the triangle meshes' blocks have ratios 85-280, where
-#   dense is 3-10 times slower. Hand -9 to -11 % CPU (3 alternating A/B
-#   runs), the square, the bones and the L within noise (0 to -3 %); 30
-#   instead of 13 on the hand: +2 %.
-# - ADMM_SINGLE_CONDITION: ADMM runs in single precision while λ_max / ρ
-#   (1.4e4 on the hand to 1.3e6 on the comb) is at most this, 1 / ε₃₂: CPU
-#   on the family (square, U notch, comb, holes, bones, regions, L, hand)
-#   -2, -3, -6, -2, -6, -2, -5, 0 % (3 alternating A/B runs); the free
-#   block factorizations are the same but for the comb (39 -> 37), the
-#   regions (10 -> 9) and the L (110 -> 109).
+# - The free blocks and H + ρI are factored by CHOLMOD's supernodal
+#   Cholesky (cvxopt's binding, which bundles OpenBLAS) in the order they
+#   keep, with that order alone (nmethods 1: by default CHOLMOD also tries
+#   AMD on every block, which tripled its analysis). On the character's
+#   6167-variable block: 5.4 ms (1.7 of them the analysis) and 1.6 ms to
+#   hand it over, against SuperLU's 15.8-18 ms; cholespy, whose CHOLMOD
+#   always orders and runs on reference BLAS, 39.5 ms. box_qp alone against
+#   SuperLU blocks: square 0.78, bones 0.81, regions 0.83, hand 0.98; and
+#   H + ρI in double precision by CHOLMOD against single by SuperLU: 0.95 to
+#   1.02 on the family. With CHOLMOD's cheaper factorizations BORDER_BUDGET
+#   0.5 instead of 1: bones 0.98, regions 0.95, L 0.96, others within 1 %
+#   (0.3: square 0.90 but comb 1.07). Factoring the hand's small blocks
+#   dense (LAPACK's Cholesky, which beat SuperLU on them by 9-11 %) no
+#   longer gains anything (1.00), so every block is factored by CHOLMOD.
 # Tried and dropped: starting each column at the lower bound wherever an
 # earlier column came out at 1 (the partition of unity) raised the
 # factorizations of the L with 20 points from 270 to 323 and of the
@@ -156,12 +157,9 @@ ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
 ADMM_NEAR_BOUND = 0.1
-BORDER_BUDGET = 1.0
+BORDER_BUDGET = 0.5
 WIDEN_MAX = 0.3
 RELEASE_RANGE = 0.003
-ADMM_SINGLE_CONDITION = 1e7
-DENSE_MAX = 1000
-DENSE_SPEEDUP = 13.0
 SOLVE_CHUNK = 16
 
 # SymmetricMode with diagonal pivots: H is symmetric positive definite, and
@@ -207,11 +205,9 @@ def box_qp(H, G, tol=1e-9):
     small dense solve on C; if the solution then leaves the box outside C, C
     grows and the solve repeats. When C is large, the iterations start from
     the bounds that a few ADMM steps touch or nearly touch (Boyd et al. 2011,
-    one factorization of ``H + ρI`` for all columns, in single precision when
-    ``H + ρI`` is well enough conditioned: ADMM only predicts). The free
-    blocks of ``H`` keep the fill-reducing order of ``H``, computed once, and
-    are factored sparse, or dense where fill would make the sparse
-    factorization slower (small blocks of tetrahedral meshes); a step whose
+    one factorization of ``H + ρI`` for all columns). The free blocks of
+    ``H`` keep the fill-reducing order of ``H``, computed once, and are
+    factored by CHOLMOD's supernodal Cholesky in that order; a step whose
     free block differs from the last factored one by a few variables borders
     that factorization instead of factoring anew (a Schur-complement update).
     The predicted free sets start one ring of ``H``'s graph wider where that
@@ -264,6 +260,45 @@ def _factor(A, permc_spec):
         raise ValueError(f"H must be positive definite: its factorization failed ({error})") from None
 
 
+class _SparseCholesky:
+    """CHOLMOD's supernodal Cholesky factor of a sparse SPD matrix ``A`` ``(k, k)``, in ``A``'s order.
+
+    ``A`` is CSC (only its lower triangle is read); ``solve`` as SuperLU's.
+    CHOLMOD comes through cvxopt, whose wheel bundles it with OpenBLAS.
+    """
+
+    # cvxopt keeps CHOLMOD's settings in one module-level dict; these hold
+    # only while a factor is made. nmethods 1: the order given and no other
+    # (CHOLMOD's default also tries AMD, which tripled the analysis of the
+    # character's blocks)
+    OPTIONS = {"nmethods": 1, "supernodal": 2, "postorder": True}
+
+    def __init__(self, A):
+        k = A.shape[0]
+        columns = np.repeat(np.arange(k, dtype=np.int64), np.diff(A.indptr))
+        lower = np.flatnonzero(A.indices >= columns)
+        matrix = cvxopt.spmatrix(
+            cvxopt.matrix(A.data.take(lower)), cvxopt.matrix(A.indices.take(lower).astype(np.int64)),
+            cvxopt.matrix(columns.take(lower)), (k, k),
+        )
+        saved = dict(cholmod.options)
+        cholmod.options.update(self.OPTIONS)
+        try:
+            self.factor = cholmod.symbolic(matrix, p=cvxopt.matrix(np.arange(k, dtype=np.int64)), uplo="L")
+            cholmod.numeric(matrix, self.factor)
+        except ArithmeticError as error:  # CHOLMOD: "not positive definite"
+            raise ValueError(f"H must be positive definite: its factorization failed ({error})") from None
+        finally:
+            cholmod.options.clear()
+            cholmod.options.update(saved)
+
+    def solve(self, b):
+        """``A⁻¹ b`` for ``b`` ``(k,)`` or ``(k, q)``."""
+        x = cvxopt.matrix(np.asfortranarray(b, dtype=np.float64).reshape(len(b), -1))
+        cholmod.solve(self.factor, x)
+        return np.array(x).reshape(b.shape)
+
+
 def _solve_in_chunks(lu, B):
     """``lu.solve(B)`` for ``B`` ``(k, q)``, in runs of ``SOLVE_CHUNK`` columns when ``lu`` is SuperLU's."""
     if not isinstance(lu, spla.SuperLU) or B.ndim == 1 or B.shape[1] <= SOLVE_CHUNK:
@@ -306,16 +341,15 @@ def _solve(H, G, tol):
         if float(grown.sum()) ** 3 >= 100 * sparse_flops:
             # every free block keeps lu's fill-reducing order (lu.perm_c[i] is
             # the position of variable i): a good order for the block too, so
-            # SuperLU skips its own ordering; H is permuted once, and ADMM
+            # CHOLMOD skips its own ordering; H is permuted once, and ADMM
             # works in that order too
             order = np.argsort(lu.perm_c)
             H_ordered = H[order][:, order].tocsc()
             H_ordered.sort_indices()
-            # column-major: SuperLU solves many right-hand sides in that
-            # layout, and takes other layouts through a copy
+            # column-major: CHOLMOD (through cvxopt) takes that layout as is
             G_ordered = np.asfortranarray(G[order])
             at_lower, at_upper = _admm_active_sets(
-                H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale), scale,
+                H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale),
             )
             at_lower, at_upper = _widened(H_ordered, at_lower, at_upper)
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
@@ -376,7 +410,7 @@ def _admm_penalty(H, lu, scale):
     return ADMM_PENALTY * float(np.sqrt(max(v @ (H @ v), 0.0) * scale))
 
 
-def _admm_active_sets(H, G, X_unconstrained, rho, scale):
+def _admm_active_sets(H, G, X_unconstrained, rho):
     """Predict the active sets of every column with a few ADMM steps.
 
     ADMM on the splitting ``x = z``, ``z`` in the box: each step is one solve
@@ -385,28 +419,15 @@ def _admm_active_sets(H, G, X_unconstrained, rho, scale):
     sets, which PDAS started from the unconstrained minimizer's out-of-box
     regions reaches only a stencil ring per step. ``H`` is CSC in a
     fill-reducing order, ``G`` and ``X_unconstrained`` are ``(n, m)``,
-    ``rho`` the penalty and ``scale`` a bound on ``H``'s largest eigenvalue;
-    returns ``(at_lower, at_upper)``, ``(n, m)`` bool.
+    and ``rho`` the penalty; returns ``(at_lower, at_upper)``, ``(n, m)``
+    bool.
     """
-    H_rho = (H + rho * sp.identity(H.shape[0], format="csc")).tocsc()
-    # Single precision solves faster, and ADMM's iterate only needs to find
-    # the bounds: its solves lose about (λ_max / ρ) ε₃₂ in relative accuracy
-    # (at most 0.08 on the family, whose predictions stay the same to within
-    # 2 factorizations)
-    dtype = np.float32 if scale / rho <= ADMM_SINGLE_CONDITION else np.float64
-    try:
-        lu = _factor(H_rho.astype(dtype), "NATURAL")
-    except ValueError:  # a zero pivot in single precision
-        dtype = np.float64
-        lu = _factor(H_rho, "NATURAL")
-    G = np.asfortranarray(G, dtype=dtype)
-    X_unconstrained = np.asfortranarray(X_unconstrained, dtype=dtype)
-    rho = dtype(rho)
+    factor = _SparseCholesky((H + rho * sp.identity(H.shape[0], format="csc")).tocsc())
     Z = np.clip(X_unconstrained, 0.0, 1.0)
     Z_last = Z
     U = X_unconstrained - Z
     for _ in range(ADMM_STEPS):
-        X = ADMM_RELAXATION * _solve_in_chunks(lu, G + rho * (Z - U)) + (1.0 - ADMM_RELAXATION) * Z
+        X = ADMM_RELAXATION * factor.solve(G + rho * (Z - U)) + (1.0 - ADMM_RELAXATION) * Z
         Z, Z_last = np.clip(X + U, 0.0, 1.0), Z
         U += X - Z
     # Skinning weights vanish on whole regions, where ADMM's iterate is still
@@ -536,14 +557,11 @@ class _FreeBlockSolver:
     ``|A| + |R|`` passes the cost of a new factorization in such solves, ``F``
     becomes the new base.
 
-    A block is factored sparse (SuperLU) or dense (LAPACK's Cholesky),
-    whichever is estimated faster: dense when its ``k³/3`` flops are at most
-    ``DENSE_SPEEDUP`` times the sparse factor's. That estimate takes the
-    pattern of ``H``'s own factor in the same order, restricted to the block
-    (which contains the block factor's pattern: eliminating fewer variables
-    fills in no more). Small blocks of tetrahedral meshes factor faster dense;
-    those of triangle meshes, with far less fill, never do. The same bounds
-    on the column counts set a sparse block's bordering budget.
+    A block is factored by CHOLMOD (``_SparseCholesky``). Its bordering
+    budget comes from bounds on its factor's column counts: the pattern of
+    ``H``'s own factor in the same order, restricted to the block (which
+    contains the block factor's pattern: eliminating fewer variables fills in
+    no more).
 
     ``H`` is CSC with sorted indices in the order every block keeps,
     ``columns`` the column of each stored entry (see ``_principal_submatrix``)
@@ -576,14 +594,11 @@ class _FreeBlockSolver:
     def _refactor(self, free):
         block = _principal_submatrix(self.H, self.columns, free)
         k = block.shape[0]
-        # bounds, not SuperLU's own counts: reading those (lu.L, a copy of
-        # the factor) took 1.3 ms of a 10 ms factorization on the character
+        self.lu = _SparseCholesky(block)
+        # bounds, not the factor's own counts: those are not read cheaply
+        # (SuperLU's lu.L, a copy of its factor, took 1.3 ms of a 10 ms
+        # factorization on the character)
         column_counts = self._column_counts(free)
-        if k <= DENSE_MAX and k**3 / 3 <= DENSE_SPEEDUP * float((column_counts**2).sum()):
-            self.lu = _DenseCholesky(block)
-            column_counts = np.arange(k, 0, -1, dtype=np.float64)
-        else:
-            self.lu = _factor(block, "NATURAL")
         self.base = free.copy()
         self.position = np.cumsum(free) - 1  # of each base variable in the block
         # a factorization costs about Σ (column count)² flops, a solve about
@@ -687,24 +702,6 @@ class _FreeBlockSolver:
             x[added] = u[slots[:k]]
         x[self.base] = z
         return x[free]
-
-
-class _DenseCholesky:
-    """The Cholesky factor of a sparse SPD matrix ``A`` ``(k, k)``, held dense; ``solve`` as SuperLU's."""
-
-    # LAPACK's own routines: scipy.linalg's wrappers (cho_factor, cho_solve)
-    # check and copy their arguments, 10-40 µs a call, and the tetrahedral
-    # hand makes ~30 calls of 0.05-1 ms each
-
-    def __init__(self, A):
-        self.factor, info = scipy.linalg.lapack.dpotrf(A.toarray(order="F"), lower=False, clean=False, overwrite_a=True)
-        if info != 0:
-            raise ValueError(f"H must be positive definite: its dense Cholesky factorization failed (LAPACK info {info})")
-
-    def solve(self, b):
-        """``A⁻¹ b`` for ``b`` ``(k,)`` or ``(k, q)``."""
-        x, _ = scipy.linalg.lapack.dpotrs(self.factor, b, lower=False)
-        return x
 
 
 def _stored_entries(H, variables):
