@@ -7,7 +7,7 @@ import numpy as np
 import scipy
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from cvxopt import cholmod
+from cvxopt import amd, cholmod
 from scipy.sparse.csgraph import connected_components
 from threadpoolctl import ThreadpoolController
 
@@ -299,6 +299,36 @@ class _SparseCholesky:
         return np.array(x).reshape(b.shape)
 
 
+class _OrderedFactor:
+    """SuperLU's factor of a sparse SPD ``H`` ``(n, n)`` in AMD's fill-reducing order; ``solve`` in ``H``'s own order.
+
+    ``position[i]`` is the position of variable ``i`` in the factor (AMD's
+    order, then SuperLU's postorder of the elimination tree); ``lu`` the
+    SuperLU object, its ``L`` and ``U`` in those positions.
+    """
+
+    def __init__(self, H):
+        # AMD (cvxopt's binding) instead of SuperLU's MMD: a little less fill
+        # (bones 1.22M against 1.24M entries, comb -14 %) in a fraction of
+        # the time (hand 0.75 against ~3 ms, bones 7 against ~12 ms)
+        n = H.shape[0]
+        columns = np.repeat(np.arange(n, dtype=np.int64), np.diff(H.indptr))
+        lower = np.flatnonzero(H.indices >= columns)
+        pattern = cvxopt.spmatrix(
+            cvxopt.matrix(H.data.take(lower)), cvxopt.matrix(H.indices.take(lower).astype(np.int64)),
+            cvxopt.matrix(columns.take(lower)), (n, n),
+        )
+        self.p = np.array(amd.order(pattern, uplo="L"), dtype=np.int64).ravel()
+        self.lu = _factor(H[self.p][:, self.p].tocsc(), "NATURAL")
+        self.position = self.lu.perm_c[np.argsort(self.p)]
+
+    def solve(self, b):
+        """``H⁻¹ b`` for ``b`` ``(n,)`` or ``(n, q)``."""
+        x = np.empty_like(b, dtype=np.float64)
+        x[self.p] = _solve_in_chunks(self.lu, np.asfortranarray(b[self.p]))
+        return x
+
+
 def _solve_in_chunks(lu, B):
     """``lu.solve(B)`` for ``B`` ``(k, q)``, in runs of ``SOLVE_CHUNK`` columns when ``lu`` is SuperLU's."""
     if not isinstance(lu, spla.SuperLU) or B.ndim == 1 or B.shape[1] <= SOLVE_CHUNK:
@@ -312,8 +342,8 @@ def _solve_in_chunks(lu, B):
 def _solve(H, G, tol):
     n, m = G.shape
     tol_x = 1e-11
-    lu = _factor(H, "MMD_AT_PLUS_A")
-    U = lu.U  # a copy of the factor, made anew at each access: read once
+    lu = _OrderedFactor(H)
+    U = lu.lu.U  # a copy of the factor, made anew at each access: read once
     # without pivoting SuperLU factors any nonsingular symmetric matrix:
     # an indefinite H shows as a negative pivot
     if (U.diagonal() <= 0).any():
@@ -339,11 +369,11 @@ def _solve(H, G, tol):
         # a dense step costs up to |C|³/3 flops but runs them ~30x faster
         # than SuperLU: go dense when that beats a sparse factorization
         if float(grown.sum()) ** 3 >= 100 * sparse_flops:
-            # every free block keeps lu's fill-reducing order (lu.perm_c[i] is
+            # every free block keeps lu's fill-reducing order (lu.position[i] is
             # the position of variable i): a good order for the block too, so
             # CHOLMOD skips its own ordering; H is permuted once, and ADMM
             # works in that order too
-            order = np.argsort(lu.perm_c)
+            order = np.argsort(lu.position)
             H_ordered = H[order][:, order].tocsc()
             H_ordered.sort_indices()
             # column-major: CHOLMOD (through cvxopt) takes that layout as is
@@ -361,10 +391,10 @@ def _solve(H, G, tol):
                     H_ordered, columns, fill, G_ordered[:, j], at_lower[:, j], at_upper[:, j], tol * scale,
                 )
             return X
-        # Order C last, the rest in lu's fill-reducing order (lu.perm_c[i] is
+        # Order C last, the rest in lu's fill-reducing order (lu.position[i] is
         # the position of variable i): the trailing block of the factor is
         # then the Schur complement K of H onto C.
-        order = np.argsort(lu.perm_c + n * grown, kind="stable")
+        order = np.argsort(lu.position + n * grown, kind="stable")
         lu_c = _factor(H[order][:, order].tocsc(), "NATURAL")
         # SuperLU postorders its elimination tree, which can move a few other
         # variables behind C: take the whole trailing block
