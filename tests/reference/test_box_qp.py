@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.sparse.csgraph import shortest_path
 from hypothesis import given, settings, strategies as st
 from threadpoolctl import threadpool_info
 
@@ -185,8 +186,11 @@ def solve_counting(monkeypatch, H, G):
 def test_the_admm_start_saves_active_set_steps_on_the_tetrahedral_hand(monkeypatch):
     """The sparse branch starts from ADMM's bounds: fewer active-set steps than from the unconstrained minimizer's."""
     H, G = hand_problem()
+    # all of ADMM_STEPS, as on a graph many rings across (the hand's 17 rings
+    # would get 8 steps, which save less there and cost less)
+    monkeypatch.setattr(box_qp_module, "_admm_steps", lambda H: box_qp_module.ADMM_STEPS)
     X_admm, steps_admm, _ = solve_counting(monkeypatch, H, G)
-    monkeypatch.setattr(box_qp_module, "_admm_active_sets", lambda H, G, X0, rho: (X0 < 0, X0 > 1))
+    monkeypatch.setattr(box_qp_module, "_admm_active_sets", lambda H, G, X0, rho, steps: (X0 < 0, X0 > 1))
     X_plain, steps_plain, _ = solve_counting(monkeypatch, H, G)
     assert steps_admm < 0.8 * steps_plain
     for X in (X_admm, X_plain):
@@ -323,6 +327,7 @@ def test_idle_variables_are_the_free_components_whose_minimizer_is_exactly_zero(
 def test_idle_islands_left_out_of_the_free_blocks_give_the_same_weights_from_smaller_factorizations(monkeypatch):
     """On the tetrahedral hand, ADMM leaves islands free around the other bones; pinned, the factored blocks shrink."""
     H, G = hand_problem()
+    monkeypatch.setattr(box_qp_module, "_admm_steps", lambda H: box_qp_module.ADMM_STEPS)  # as above
     sizes = []
     refactor = box_qp_module._FreeBlockSolver._refactor
 
@@ -481,6 +486,42 @@ def test_factoring_a_block_leaves_cholmods_settings_as_they_were():
     before = dict(cholmod.options)
     box_qp_module._SparseCholesky(chain_biharmonic(10).tocsc())
     assert dict(cholmod.options) == before
+
+
+@pytest.mark.parametrize("n", [2, 3, 10, 41])
+def test_rings_across_a_chain_are_its_length_in_two_neighbour_hops(n):
+    """The chain's H couples each variable to two on either side: ⌈(n - 1) / 2⌉ rings from end to end."""
+    assert box_qp_module._rings_across(chain_biharmonic(n)) == (n - 1 + 1) // 2
+
+
+@settings(max_examples=40, deadline=None)
+@given(seeds, st.integers(2, 60))
+def test_rings_across_a_connected_graph_lie_between_half_its_diameter_and_its_diameter(seed, n):
+    """Two breadth-first sweeps from a vertex and then from the farthest one found."""
+    rng = np.random.default_rng(seed)
+    A = sp.random(n, n, density=2.0 / n, random_state=rng, format="csr")
+    chain = sp.diags([np.ones(n - 1)], [1], shape=(n, n))  # keeps it connected
+    pattern = sp.csr_matrix(((A + A.T + chain + chain.T + sp.eye(n)) != 0).astype(np.float64))
+    diameter = int(shortest_path(pattern, unweighted=True).max())
+    rings = box_qp_module._rings_across(pattern)
+    assert diameter <= 2 * rings
+    assert rings <= diameter
+
+
+def test_admm_runs_half_as_many_steps_as_the_hand_is_rings_across(monkeypatch):
+    """The hand is 17 rings across: 8 ADMM steps; the family's 2D character, 70 rings across, all of ADMM_STEPS."""
+    H, G = hand_problem()
+    taken = []
+    admm = box_qp_module._admm_active_sets
+
+    def recording(H, G, X0, rho, steps):
+        taken.append(steps)
+        return admm(H, G, X0, rho, steps)
+
+    monkeypatch.setattr(box_qp_module, "_admm_active_sets", recording)
+    box_qp(H, G)
+    assert box_qp_module._rings_across(H) == 17
+    assert taken == [8]
 
 
 @pytest.mark.parametrize("steps", [0, 5])
