@@ -1,6 +1,7 @@
 """Convex quadratic programs on the unit box: ``min ½ xᵀ H x - gᵀ x`` s.t. ``0 ≤ x ≤ 1``."""
 
 import functools
+import threading
 
 import cvxopt
 import numpy as np
@@ -268,10 +269,12 @@ class _SparseCholesky:
     """
 
     # cvxopt keeps CHOLMOD's settings in one module-level dict; these hold
-    # only while a factor is made. nmethods 1: the order given and no other
+    # only while a factor is made, under a lock (two threads swapping them
+    # could leave them set). nmethods 1: the order given and no other
     # (CHOLMOD's default also tries AMD, which tripled the analysis of the
     # character's blocks)
     OPTIONS = {"nmethods": 1, "supernodal": 2, "postorder": True}
+    LOCK = threading.Lock()
 
     def __init__(self, A):
         k = A.shape[0]
@@ -281,16 +284,17 @@ class _SparseCholesky:
             cvxopt.matrix(A.data.take(lower)), cvxopt.matrix(A.indices.take(lower).astype(np.int64)),
             cvxopt.matrix(columns.take(lower)), (k, k),
         )
-        saved = dict(cholmod.options)
-        cholmod.options.update(self.OPTIONS)
-        try:
-            self.factor = cholmod.symbolic(matrix, p=cvxopt.matrix(np.arange(k, dtype=np.int64)), uplo="L")
-            cholmod.numeric(matrix, self.factor)
-        except ArithmeticError as error:  # CHOLMOD: "not positive definite"
-            raise ValueError(f"H must be positive definite: its factorization failed ({error})") from None
-        finally:
-            cholmod.options.clear()
-            cholmod.options.update(saved)
+        with self.LOCK:
+            saved = dict(cholmod.options)
+            cholmod.options.update(self.OPTIONS)
+            try:
+                self.factor = cholmod.symbolic(matrix, p=cvxopt.matrix(np.arange(k, dtype=np.int64)), uplo="L")
+                cholmod.numeric(matrix, self.factor)
+            except ArithmeticError as error:  # CHOLMOD: "not positive definite"
+                raise ValueError(f"H must be positive definite: its factorization failed ({error})") from None
+            finally:
+                cholmod.options.clear()
+                cholmod.options.update(saved)
 
     def solve(self, b):
         """``A⁻¹ b`` for ``b`` ``(k,)`` or ``(k, q)``."""
