@@ -382,7 +382,7 @@ def _solve(H, G, tol):
             H_ordered.sort_indices()
             # column-major: CHOLMOD (through cvxopt) takes that layout as is
             G_ordered = np.asfortranarray(G[order])
-            at_lower, at_upper = _admm_active_sets(
+            at_lower, at_upper, Z = _admm_active_sets(
                 H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale),
                 _admm_steps(H_ordered),
             )
@@ -394,6 +394,7 @@ def _solve(H, G, tol):
             for j in range(m):
                 X[order, j] = _sparse_active_set(
                     H_ordered, columns, fill, G_ordered[:, j], at_lower[:, j], at_upper[:, j], tol * scale,
+                    Z[:, j],
                 )
             return X
         # Order C last, the rest in lu's fill-reducing order (lu.position[i] is
@@ -455,7 +456,8 @@ def _admm_active_sets(H, G, X_unconstrained, rho, steps):
     regions reaches only a stencil ring per step. ``H`` is CSC in a
     fill-reducing order, ``G`` and ``X_unconstrained`` are ``(n, m)``,
     ``rho`` the penalty and ``steps`` how many to take (see ``_admm_steps``);
-    returns ``(at_lower, at_upper)``, ``(n, m)`` bool.
+    returns ``(at_lower, at_upper, Z)``: the predicted active sets, ``(n, m)``
+    bool, and ADMM's iterate, ``(n, m)``.
     """
     factor = _SparseCholesky((H + rho * sp.identity(H.shape[0], format="csc")).tocsc())
     Z = np.clip(X_unconstrained, 0.0, 1.0)
@@ -470,7 +472,7 @@ def _admm_active_sets(H, G, X_unconstrained, rho, steps):
     # block. Started at the bound, the few that belong inside are released.
     # "Slightly" is relative to how far ADMM still moves (its last step).
     near = ADMM_NEAR_BOUND * np.abs(Z - Z_last).max(axis=0)
-    return Z <= near, Z >= 1.0 - near
+    return Z <= near, Z >= 1.0 - near, Z
 
 
 def _admm_steps(H):
@@ -813,14 +815,15 @@ def _lookahead(H, diagonal, gradient, lower, upper, release, tol_release):
     return release | (lower & (predicted < -tol_release)) | (upper & (predicted > tol_release))
 
 
-def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt):
+def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt, start=None):
     """Minimize ``½ xᵀ H x - gᵀ x`` over ``0 ≤ x ≤ 1`` to KKT residual ``tol_kkt``; ``H`` sparse SPD.
 
     ``H`` is CSC with sorted indices, its variables in a fill-reducing order
     that every free block keeps, and ``columns`` the column of each of its
     stored entries (see ``_principal_submatrix``), and ``fill`` the pattern
     of ``H``'s factor in that order (see ``_FreeBlockSolver``); ``lower`` and
-    ``upper`` are ``(n,)`` bool, the initial active sets.
+    ``upper`` are ``(n,)`` bool, the initial active sets, and ``start``
+    ``(n,)`` (optional) the predictor's iterate they came from.
 
     Returns ``x`` ``(n,)``, in the box exactly.
     """
@@ -838,6 +841,18 @@ def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt):
     # makes the free set chatter.
     tol_release = 0.5 * tol_kkt
     diagonal = H.diagonal()
+    if start is not None:
+        # the first step's releases, taken at the predictor's iterate before
+        # any factorization: the first block then holds most of the front
+        # that the prediction missed (hand -9 %, bones -3 %; with the look-
+        # ahead the hand another -4 %, the regions +4 %)
+        gradient = H @ np.where(lower, 0.0, np.where(upper, 1.0, start)) - g
+        release = (lower & (gradient < -tol_release)) | (upper & (gradient > tol_release))
+        if release.any():
+            release &= np.abs(gradient) >= RELEASE_RANGE * np.abs(gradient[release]).max()
+            release = _lookahead(H, diagonal, gradient, lower, upper, release, tol_release)
+            lower, upper = lower & ~release, upper & ~release
+            r = g - H @ upper.astype(np.float64)
     for _ in range(max_iter):
         free = ~(lower | upper)
         x = upper.astype(np.float64)

@@ -190,7 +190,7 @@ def test_the_admm_start_saves_active_set_steps_on_the_tetrahedral_hand(monkeypat
     # would get 8 steps, which save less there and cost less)
     monkeypatch.setattr(box_qp_module, "_admm_steps", lambda H: box_qp_module.ADMM_STEPS)
     X_admm, steps_admm, _ = solve_counting(monkeypatch, H, G)
-    monkeypatch.setattr(box_qp_module, "_admm_active_sets", lambda H, G, X0, rho, steps: (X0 < 0, X0 > 1))
+    monkeypatch.setattr(box_qp_module, "_admm_active_sets", lambda H, G, X0, rho, steps: (X0 < 0, X0 > 1, X0))
     X_plain, steps_plain, _ = solve_counting(monkeypatch, H, G)
     assert steps_admm < 0.8 * steps_plain
     for X in (X_admm, X_plain):
@@ -198,6 +198,19 @@ def test_the_admm_start_saves_active_set_steps_on_the_tetrahedral_hand(monkeypat
             assert kkt_residual(H, g, x) <= 1e-9
     # both meet the KKT tolerance; H's conditioning turns that into ~1e-8 in x
     np.testing.assert_allclose(X_admm, X_plain, atol=1e-7)
+
+
+def test_releasing_at_admms_iterate_before_the_first_factorization_saves_steps_on_the_hand(monkeypatch):
+    """The first step's releases, taken where ADMM stopped, put most of the missed front in the first block."""
+    H, G = hand_problem()
+    X, steps, factorizations = solve_counting(monkeypatch, H, G)
+    original = box_qp_module._sparse_active_set
+    monkeypatch.setattr(box_qp_module, "_sparse_active_set", lambda *args: original(*args[:7]))  # no start
+    X_late, steps_late, factorizations_late = solve_counting(monkeypatch, H, G)
+    assert steps < steps_late and factorizations < factorizations_late
+    for x, g in zip(X.T, G.T):
+        assert kkt_residual(H, g, x) <= 1e-9
+    np.testing.assert_allclose(X, X_late, atol=1e-7)
 
 
 def test_bordered_free_blocks_save_factorizations_and_give_the_same_weights(monkeypatch):
