@@ -154,6 +154,23 @@ from starter.validation import as_float_array
 #   but regions +19 %, square and U notch +5 %; 15: bones +19 %).
 # - Widening by a second ring where it adds at most 15 % of the free set:
 #   +6 to +57 % on every triangle mesh (the hand unchanged).
+# Issue 27, fourth round (CHOLMOD; box_qp alone, alternating A/B runs):
+# - H itself factored by CHOLMOD in AMD's order instead of SuperLU: every
+#   member faster (hexagon 0.74, regions 0.90, bones 0.91, hand 0.92, comb
+#   and L 0.98). Its pattern, read out once the unconstrained minimizer and
+#   ρ are known (cvxopt hands L over by making the factor symbolic), bounds
+#   the blocks' column counts as SuperLU's U did. The branch with C last
+#   keeps SuperLU, whose factor's trailing block is K: its x0 and its final
+#   solve come from that same factor (from CHOLMOD's instead, the KKT
+#   residual of the exact branch grew from 1e-12 to 3e-11).
+# - The tetrahedral hand's predictions: after 25 ADMM steps it misses 324
+#   free entries and predicts 746 free that end at 0, after 8 steps 357 and
+#   437 (after 2, 396 and 36): ADMM's iterate spreads. Hence the steps from
+#   the rings across (_admm_steps: 8 on the hand, -12 %), and the first
+#   step's releases at ADMM's iterate (hand 27 -> 20 steps, 14 -> 10
+#   factorizations, -13 %). ADMM_PENALTY 0.03-1 on the hand: -9 to +12 %,
+#   erratic; BORDER_BUDGET 0.25-0.3: hand -4 to +1 %, comb +5-7 %;
+#   WIDEN_MAX 0.6 or 1.1 on the hand: +3 %, +16 %.
 ADMM_PENALTY = 0.01
 ADMM_RELAXATION = 1.6
 ADMM_STEPS = 25
@@ -200,15 +217,18 @@ def box_qp(H, G, tol=1e-9):
     Notes
     -----
     Primal-dual active sets (Hintermüller, Ito and Kunisch 2002), started from
-    the bounds that the unconstrained minimizer ``H⁻¹ g`` breaks. When those
-    vertices are few (a set C), ordering C last in one sparse factorization of
-    ``H`` gives the Schur complement K of ``H`` onto C, and every step is a
-    small dense solve on C; if the solution then leaves the box outside C, C
-    grows and the solve repeats. When C is large, the iterations start from
-    the bounds that a few ADMM steps touch or nearly touch (Boyd et al. 2011,
-    one factorization of ``H + ρI`` for all columns). The free blocks of
-    ``H`` keep the fill-reducing order of ``H``, computed once, and are
-    factored by CHOLMOD's supernodal Cholesky in that order; a step whose
+    the bounds that the unconstrained minimizer ``H⁻¹ g`` breaks (``H``
+    factored by CHOLMOD in AMD's order). When those vertices are few (a set
+    C), ordering C last in one sparse factorization of ``H`` gives the Schur
+    complement K of ``H`` onto C, and every step is a small dense solve on C;
+    if the solution then leaves the box outside C, C grows and the solve
+    repeats. When C is large, the iterations start from the bounds that a few
+    ADMM steps touch or nearly touch (Boyd et al. 2011, one factorization of
+    ``H + ρI`` for all columns; at most half as many steps as ``H``'s graph
+    is rings across), and the first step's releases are taken at ADMM's
+    iterate before any factorization. The free blocks of ``H`` keep the
+    fill-reducing order of ``H`` and are factored by CHOLMOD's supernodal
+    Cholesky in that order; a step whose
     free block differs from the last factored one by a few variables borders
     that factorization instead of factoring anew (a Schur-complement update).
     The predicted free sets start one ring of ``H``'s graph wider where that
@@ -262,10 +282,11 @@ def _factor(A, permc_spec):
 
 
 class _SparseCholesky:
-    """CHOLMOD's supernodal Cholesky factor of a sparse SPD matrix ``A`` ``(k, k)``, in ``A``'s order.
+    """CHOLMOD's supernodal Cholesky factor of a sparse SPD matrix ``A`` ``(k, k)``; ``solve`` as SuperLU's.
 
-    ``A`` is CSC (only its lower triangle is read); ``solve`` as SuperLU's.
-    CHOLMOD comes through cvxopt, whose wheel bundles it with OpenBLAS.
+    ``A`` is CSC (only its lower triangle is read), factored in its own order,
+    or with ``fill_reducing`` in AMD's. CHOLMOD comes through cvxopt, whose
+    wheel bundles it with OpenBLAS; cvxopt's AMD orders.
     """
 
     # cvxopt keeps CHOLMOD's settings in one module-level dict; these hold
@@ -276,19 +297,23 @@ class _SparseCholesky:
     OPTIONS = {"nmethods": 1, "supernodal": 2, "postorder": True}
     LOCK = threading.Lock()
 
-    def __init__(self, A):
-        k = A.shape[0]
+    def __init__(self, A, fill_reducing=False):
+        k = self.size = A.shape[0]
         columns = np.repeat(np.arange(k, dtype=np.int64), np.diff(A.indptr))
         lower = np.flatnonzero(A.indices >= columns)
         matrix = cvxopt.spmatrix(
             cvxopt.matrix(A.data.take(lower)), cvxopt.matrix(A.indices.take(lower).astype(np.int64)),
             cvxopt.matrix(columns.take(lower)), (k, k),
         )
+        # AMD instead of SuperLU's MMD: a little less fill (bones 1.22M
+        # against 1.24M entries, comb -14 %) in a fraction of the time (hand
+        # 0.75 against ~3 ms, bones 7 against ~12 ms)
+        order = amd.order(matrix, uplo="L") if fill_reducing else cvxopt.matrix(np.arange(k, dtype=np.int64))
         with self.LOCK:
             saved = dict(cholmod.options)
             cholmod.options.update(self.OPTIONS)
             try:
-                self.factor = cholmod.symbolic(matrix, p=cvxopt.matrix(np.arange(k, dtype=np.int64)), uplo="L")
+                self.factor = cholmod.symbolic(matrix, p=order, uplo="L")
                 cholmod.numeric(matrix, self.factor)
             except ArithmeticError as error:  # CHOLMOD: "not positive definite"
                 raise ValueError(f"H must be positive definite: its factorization failed ({error})") from None
@@ -302,35 +327,21 @@ class _SparseCholesky:
         cholmod.solve(self.factor, x)
         return np.array(x).reshape(b.shape)
 
+    def read_out(self):
+        """``(order, L)``: the factor's order (``order[p]`` is the row of ``A`` at position ``p``: the
+        order asked for, then CHOLMOD's postorder) and ``L`` ``(k, k)`` CSC, ``A[order][:, order] = L Lᵀ``.
 
-class _OrderedFactor:
-    """SuperLU's factor of a sparse SPD ``H`` ``(n, n)`` in AMD's fill-reducing order; ``solve`` in ``H``'s own order.
-
-    ``position[i]`` is the position of variable ``i`` in the factor (AMD's
-    order, then SuperLU's postorder of the elimination tree); ``lu`` the
-    SuperLU object, its ``L`` and ``U`` in those positions.
-    """
-
-    def __init__(self, H):
-        # AMD (cvxopt's binding) instead of SuperLU's MMD: a little less fill
-        # (bones 1.22M against 1.24M entries, comb -14 %) in a fraction of
-        # the time (hand 0.75 against ~3 ms, bones 7 against ~12 ms)
-        n = H.shape[0]
-        columns = np.repeat(np.arange(n, dtype=np.int64), np.diff(H.indptr))
-        lower = np.flatnonzero(H.indices >= columns)
-        pattern = cvxopt.spmatrix(
-            cvxopt.matrix(H.data.take(lower)), cvxopt.matrix(H.indices.take(lower).astype(np.int64)),
-            cvxopt.matrix(columns.take(lower)), (n, n),
+        cvxopt hands ``L`` over by turning the factor symbolic: no ``solve``
+        after this.
+        """
+        x = cvxopt.matrix(np.arange(self.size, dtype=np.float64))
+        cholmod.solve(self.factor, x, sys=7)  # x := P x, so x[p] is the row at position p
+        order = np.array(x).ravel().astype(np.int64)
+        colptr, rowind, values = cholmod.getfactor(self.factor).CCS
+        L = sp.csc_matrix(
+            (np.array(values).ravel(), np.array(rowind).ravel(), np.array(colptr).ravel()), shape=(self.size, self.size),
         )
-        self.p = np.array(amd.order(pattern, uplo="L"), dtype=np.int64).ravel()
-        self.lu = _factor(H[self.p][:, self.p].tocsc(), "NATURAL")
-        self.position = self.lu.perm_c[np.argsort(self.p)]
-
-    def solve(self, b):
-        """``H⁻¹ b`` for ``b`` ``(n,)`` or ``(n, q)``."""
-        x = np.empty_like(b, dtype=np.float64)
-        x[self.p] = _solve_in_chunks(self.lu, np.asfortranarray(b[self.p]))
-        return x
+        return order, L
 
 
 def _solve_in_chunks(lu, B):
@@ -346,19 +357,19 @@ def _solve_in_chunks(lu, B):
 def _solve(H, G, tol):
     n, m = G.shape
     tol_x = 1e-11
-    lu = _OrderedFactor(H)
-    U = lu.lu.U  # a copy of the factor, made anew at each access: read once
-    # without pivoting SuperLU factors any nonsingular symmetric matrix:
-    # an indefinite H shows as a negative pivot
-    if (U.diagonal() <= 0).any():
-        raise ValueError("H must be positive definite: its factorization has a non-positive pivot")
+    factor = _SparseCholesky(H, fill_reducing=True)
     scale = float(abs(H).sum(axis=1).max())
-    # symmetric mode factors H = L D Lᵀ and keeps U = D Lᵀ: U's rows are the
-    # columns of H's Cholesky factor. fill holds that pattern (unit entries).
-    fill = sp.csc_matrix((np.ones(U.nnz), U.indices, U.indptr), shape=(n, n))
+    X_unconstrained = factor.solve(G)
+    rho = _admm_penalty(H, factor, scale)
+    # what is read out of the factor ends its solves: the order every free
+    # block keeps (position p holds variable order[p]) and the pattern of L,
+    # whose columns' counts bound those of every block's factor. fill holds
+    # it transposed with unit entries (see _FreeBlockSolver).
+    order, L = factor.read_out()
+    position = np.argsort(order)
+    fill = sp.csr_matrix((np.ones(L.nnz), L.indices, L.indptr), shape=(n, n))
     # about the flops of one sparse factorization of H (Σ column count²)
-    sparse_flops = float((np.bincount(U.indices, minlength=n).astype(np.float64) ** 2).sum())
-    X_unconstrained = _solve_in_chunks(lu, G)
+    sparse_flops = float((np.diff(L.indptr).astype(np.float64) ** 2).sum())
     X = X_unconstrained
     # at_lower[i, j]: x_i = 0 in problem j; at_upper[i, j]: x_i = 1
     at_lower = np.zeros_like(X, dtype=bool)
@@ -373,18 +384,15 @@ def _solve(H, G, tol):
         # a dense step costs up to |C|³/3 flops but runs them ~30x faster
         # than SuperLU: go dense when that beats a sparse factorization
         if float(grown.sum()) ** 3 >= 100 * sparse_flops:
-            # every free block keeps lu's fill-reducing order (lu.position[i] is
-            # the position of variable i): a good order for the block too, so
-            # CHOLMOD skips its own ordering; H is permuted once, and ADMM
-            # works in that order too
-            order = np.argsort(lu.position)
+            # every free block keeps the factor's fill-reducing order: a good
+            # order for the block too, so CHOLMOD skips its own ordering; H is
+            # permuted once, and ADMM works in that order too
             H_ordered = H[order][:, order].tocsc()
             H_ordered.sort_indices()
             # column-major: CHOLMOD (through cvxopt) takes that layout as is
             G_ordered = np.asfortranarray(G[order])
             at_lower, at_upper, Z = _admm_active_sets(
-                H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), _admm_penalty(H, lu, scale),
-                _admm_steps(H_ordered),
+                H_ordered, G_ordered, np.asfortranarray(X_unconstrained[order]), rho, _admm_steps(H_ordered),
             )
             at_lower, at_upper = _widened(H_ordered, at_lower, at_upper)
             columns = np.repeat(np.arange(n), np.diff(H_ordered.indptr))
@@ -397,15 +405,14 @@ def _solve(H, G, tol):
                     Z[:, j],
                 )
             return X
-        # Order C last, the rest in lu's fill-reducing order (lu.position[i] is
-        # the position of variable i): the trailing block of the factor is
-        # then the Schur complement K of H onto C.
-        order = np.argsort(lu.position + n * grown, kind="stable")
-        lu_c = _factor(H[order][:, order].tocsc(), "NATURAL")
+        # Order C last, the rest in the fill-reducing order: the trailing
+        # block of the factor is then the Schur complement K of H onto C.
+        order_c = np.argsort(position + n * grown, kind="stable")
+        lu_c = _factor(H[order_c][:, order_c].tocsc(), "NATURAL")
         # SuperLU postorders its elimination tree, which can move a few other
         # variables behind C: take the whole trailing block
-        tail = n - int(lu_c.perm_c[np.argsort(order)[grown]].min())
-        trailing = order[np.argsort(lu_c.perm_c)[-tail:]]
+        tail = n - int(lu_c.perm_c[np.argsort(order_c)[grown]].min())
+        trailing = order_c[np.argsort(lu_c.perm_c)[-tail:]]
         K = lu_c.L[-tail:, -tail:].toarray() @ lu_c.U[-tail:, -tail:].toarray()
         K = 0.5 * (K + K.T)
         K_inverse = scipy.linalg.cho_solve(
@@ -414,18 +421,24 @@ def _solve(H, G, tol):
         C[trailing] = True
         # with the other variables eliminated, the energy on C is
         # ½ (y - x0)ᵀ K (y - x0), x0 the unconstrained minimizer there; its
-        # multipliers are the gradient of the full energy
+        # multipliers are the gradient of the full energy. x0 and the final
+        # solve come from lu_c, as K does: from CHOLMOD's factor instead, the
+        # two factorizations' roundoff left KKT residuals of 3e-11 (1e-11
+        # from one)
+        x0 = np.empty((n, m))
+        x0[order_c] = _solve_in_chunks(lu_c, np.asfortranarray(G[order_c]))
         multipliers = np.zeros((n, m))
         for j in range(m):
             nu, lower, upper = _dense_active_set(
-                K, K_inverse, X_unconstrained[trailing, j], at_lower[trailing, j], at_upper[trailing, j],
+                K, K_inverse, x0[trailing, j], at_lower[trailing, j], at_upper[trailing, j],
             )
             multipliers[trailing, j] = nu
             at_lower[:, j] = False
             at_upper[:, j] = False
             at_lower[trailing[lower], j] = True
             at_upper[trailing[upper], j] = True
-        X = _solve_in_chunks(lu, G + multipliers)
+        X = np.empty((n, m))
+        X[order_c] = _solve_in_chunks(lu_c, np.asfortranarray((G + multipliers)[order_c]))
         X[at_lower] = 0.0
         X[at_upper] = 1.0
 

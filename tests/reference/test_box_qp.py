@@ -487,6 +487,21 @@ def test_a_sparse_block_factor_solves_like_a_dense_solve(seed, n, q):
     assert factor.solve(B[:, 0]).shape == (n,)
 
 
+@settings(max_examples=40, deadline=None)
+@given(seeds, st.integers(1, 60))
+def test_a_fill_reducing_factor_reads_out_its_order_and_its_lower_factor(seed, n):
+    """AMD's order then CHOLMOD's postorder: ``H[order][:, order] = L Lᵀ``, ``L`` lower triangular."""
+    rng = np.random.default_rng(seed)
+    A = sp.random(n, n, density=0.2, random_state=rng, format="csc")
+    H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+    factor = box_qp_module._SparseCholesky(H, fill_reducing=True)
+    np.testing.assert_allclose(H @ factor.solve(np.ones(n)), np.ones(n), atol=1e-9)
+    order, L = factor.read_out()
+    assert np.array_equal(np.sort(order), np.arange(n))
+    assert sp.triu(L, 1).nnz == 0
+    np.testing.assert_allclose((L @ L.T).toarray(), H[order][:, order].toarray(), atol=1e-12 * abs(H).max())
+
+
 def test_a_sparse_block_that_is_not_positive_definite_names_the_problem():
     with pytest.raises(ValueError, match="H must be positive definite"):
         box_qp_module._SparseCholesky(sp.csc_matrix(np.array([[1.0, 2.0], [2.0, 1.0]])))
