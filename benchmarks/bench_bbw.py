@@ -9,11 +9,12 @@ see the same load on a shared machine; the figures are medians over the runs,
 with the spread of the per-run ratio. Wall-clock and CPU (process) times are
 both reported: on a loaded machine the CPU times are the steadier ones.
 
-BLAS runs on one thread during the timings (``threadpoolctl``): the
-reference's dense Cholesky steps (a few hundred unknowns each) gain nothing
-from OpenBLAS threads, and on a loaded machine the threads' busy waiting makes
-some steps 100x slower (a 200x200 ``cho_factor`` measured 0.3 s instead of
-0.2 ms), which would time the machine's load rather than the code.
+BLAS runs on one thread during the timings (``threadpoolctl``, which also
+reaches the OpenBLAS that cvxopt's CHOLMOD uses): the reference's small dense
+steps gain nothing from OpenBLAS threads, and on a loaded machine the threads'
+busy waiting makes some steps 100x slower (a 200x200 ``cho_factor`` measured
+0.3 s instead of 0.2 ms), which would time the machine's load rather than the
+code.
 ``igl.bbw`` does not use BLAS; its own threads are left alone (its CPU time
 exceeds its wall time).
 
