@@ -226,6 +226,12 @@ def test_bordered_free_blocks_save_factorizations_and_give_the_same_weights(monk
     np.testing.assert_allclose(X, X_refactored, atol=1e-7)
 
 
+def random_sparse_spd(rng, n, density):
+    """``A Aᵀ + D`` ``(n, n)`` CSC, ``A`` sparse random with ``density``, ``D`` a positive diagonal in [0.1, 2]."""
+    A = sp.random(n, n, density=density, random_state=rng, format="csc")
+    return (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+
+
 def cholesky_factor(H):
     """The pattern of ``H``'s upper triangular Cholesky factor in its natural order, CSC with unit entries."""
     return sp.csc_matrix((np.linalg.cholesky(H.toarray()).T != 0).astype(np.float64))
@@ -241,8 +247,7 @@ def free_block_solver(H):
 def test_bordered_solves_equal_factorizations_of_the_moved_free_blocks(seed, n, n_added, n_removed):
     """Two steps bordering one base block (the second reuses the first's slots, both may grow them)."""
     rng = np.random.default_rng(seed)
-    A = sp.random(n, n, density=0.15, random_state=rng, format="csc")
-    H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+    H = random_sparse_spd(rng, n, 0.15)
     H.sort_indices()
     base = rng.random(n) < 0.6
     base[rng.integers(n)] = True
@@ -315,8 +320,7 @@ def test_principal_submatrices_equal_scipy_indexing_and_come_sorted(seed, n, kee
 def test_idle_variables_are_the_free_components_whose_minimizer_is_exactly_zero(seed, n, free_fraction):
     """``_idle`` marks exactly the free components of ``H`` with a zero right-hand side, where the block solve gives 0."""
     rng = np.random.default_rng(seed)
-    A = sp.random(n, n, density=2.0 / n, random_state=rng, format="csc")
-    H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+    H = random_sparse_spd(rng, n, 2.0 / n)
     H.sort_indices()
     columns = np.repeat(np.arange(n), np.diff(H.indptr))
     free = rng.random(n) < free_fraction
@@ -365,8 +369,7 @@ def test_widened_starts_free_exactly_the_bound_variables_coupled_to_a_free_one_i
     seed, n, m, widen_max,
 ):
     rng = np.random.default_rng(seed)
-    A = sp.random(n, n, density=2.0 / n, random_state=rng, format="csc")
-    H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+    H = random_sparse_spd(rng, n, 2.0 / n)
     state = rng.integers(0, 3, size=(n, m))  # 0 free, 1 lower, 2 upper
     at_lower, at_upper = state == 1, state == 2
     original = box_qp_module.WIDEN_MAX
@@ -457,8 +460,7 @@ def test_lookahead_adds_exactly_the_bound_variables_whose_predicted_multiplier_t
 def test_the_column_count_estimate_bounds_the_block_factor_column_by_column(seed, n, free_fraction):
     """The full factor's pattern restricted to a free block contains the block factor's: it bounds every column count."""
     rng = np.random.default_rng(seed)
-    A = sp.random(n, n, density=0.1, random_state=rng, format="csc")
-    H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+    H = random_sparse_spd(rng, n, 0.1)
     H.sort_indices()
     free = rng.random(n) < free_fraction
     free[rng.integers(n)] = True
@@ -478,8 +480,7 @@ def test_the_column_count_estimate_bounds_the_block_factor_column_by_column(seed
 def test_a_sparse_block_factor_solves_like_a_dense_solve(seed, n, q):
     """CHOLMOD's factor, in the block's own order, reading the lower triangle only."""
     rng = np.random.default_rng(seed)
-    A = sp.random(n, n, density=0.2, random_state=rng, format="csc")
-    H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+    H = random_sparse_spd(rng, n, 0.2)
     factor = box_qp_module._SparseCholesky(H)
     B = rng.normal(size=(n, q))
     expected = np.linalg.solve(H.toarray(), B)
@@ -492,8 +493,7 @@ def test_a_sparse_block_factor_solves_like_a_dense_solve(seed, n, q):
 def test_a_fill_reducing_factor_reads_out_its_order_and_its_lower_factor(seed, n):
     """AMD's order then CHOLMOD's postorder: ``H[order][:, order] = L Lᵀ``, ``L`` lower triangular."""
     rng = np.random.default_rng(seed)
-    A = sp.random(n, n, density=0.2, random_state=rng, format="csc")
-    H = (A @ A.T + sp.diags(rng.uniform(0.1, 2.0, n))).tocsc()
+    H = random_sparse_spd(rng, n, 0.2)
     factor = box_qp_module._SparseCholesky(H, fill_reducing=True)
     np.testing.assert_allclose(H @ factor.solve(np.ones(n)), np.ones(n), atol=1e-9)
     order, L = factor.read_out()
