@@ -382,7 +382,8 @@ def _solve(H, G, tol):
         if np.array_equal(grown, C):
             return np.clip(X, 0.0, 1.0)
         # a dense step costs up to |C|³/3 flops but runs them ~30x faster
-        # than SuperLU: go dense when that beats a sparse factorization
+        # than SuperLU (the factor 100 was set against SuperLU's blocks, ~3x
+        # slower than CHOLMOD's): go dense when that beats a sparse one
         if float(grown.sum()) ** 3 >= 100 * sparse_flops:
             # every free block keeps the factor's fill-reducing order: a good
             # order for the block too, so CHOLMOD skips its own ordering; H is
