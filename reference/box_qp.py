@@ -345,8 +345,8 @@ class _SparseCholesky:
 
 
 def _solve_in_chunks(lu, B):
-    """``lu.solve(B)`` for ``B`` ``(k, q)``, in runs of ``SOLVE_CHUNK`` columns when ``lu`` is SuperLU's."""
-    if not isinstance(lu, spla.SuperLU) or B.ndim == 1 or B.shape[1] <= SOLVE_CHUNK:
+    """SuperLU's ``lu.solve(B)`` for ``B`` ``(k, q)``, in runs of ``SOLVE_CHUNK`` columns."""
+    if B.ndim == 1 or B.shape[1] <= SOLVE_CHUNK:
         return lu.solve(B)
     X = np.empty_like(B, order="F")
     for start in range(0, B.shape[1], SOLVE_CHUNK):
@@ -444,8 +444,8 @@ def _solve(H, G, tol):
         X[at_upper] = 1.0
 
 
-def _admm_penalty(H, lu, scale):
-    """ADMM's penalty ρ for ``H`` ``(n, n)``, factored by ``lu``, its largest eigenvalue at most ``scale``."""
+def _admm_penalty(H, factor, scale):
+    """ADMM's penalty ρ for ``H`` ``(n, n)``, factored by ``factor``, its largest eigenvalue at most ``scale``."""
     # √(λ_min λ_max) is ADMM's optimal penalty on strongly convex quadratics
     # (Ghadimi et al. 2015), and scaling by it suits triangles and tetrahedra
     # alike. Only the bounds matter here, and a fraction of it finds them in
@@ -455,7 +455,7 @@ def _admm_penalty(H, lu, scale):
     # A few inverse iterations estimate λ_min.
     v = np.linspace(1.0, 2.0, H.shape[0])
     for _ in range(6):
-        v = lu.solve(v)
+        v = factor.solve(v)
         v /= np.linalg.norm(v)
     return ADMM_PENALTY * float(np.sqrt(max(v @ (H @ v), 0.0) * scale))
 
@@ -503,7 +503,7 @@ def _admm_steps(H):
 
 def _rings_across(H):
     """How many rings of ``H``'s graph ``(n, n)`` separate its farthest vertices, estimated by two breadth-first sweeps."""
-    pattern = sp.csr_matrix((np.ones_like(H.data), H.indices, H.indptr), shape=H.shape)
+    pattern = _graph(H)
     rings = 0
     start = 0
     for _ in range(2):
@@ -512,6 +512,11 @@ def _rings_across(H):
         start = int(np.argmax(np.where(reached, depth, -1.0)))
         rings = max(rings, int(depth[start]))
     return rings
+
+
+def _graph(H):
+    """``H``'s graph: its pattern with unit entries, CSR ``(n, n)`` (``H`` CSC and symmetric: Hᵀ's pattern is H's)."""
+    return sp.csr_matrix((np.ones_like(H.data), H.indices, H.indptr), shape=H.shape)
 
 
 def _widened(H, at_lower, at_upper):
@@ -529,7 +534,7 @@ def _widened(H, at_lower, at_upper):
     ``H`` ``(n, n)`` sparse; ``at_lower`` and ``at_upper`` ``(n, m)`` bool.
     Returns the narrowed ``(at_lower, at_upper)``.
     """
-    coupled = sp.csr_matrix((np.ones_like(H.data), H.indices, H.indptr), shape=H.shape)  # Hᵀ's pattern = H's
+    coupled = _graph(H)
     free = ~(at_lower | at_upper)
     ring = ((coupled @ free.astype(np.float64)) > 0) & ~free
     ring &= ring.sum(axis=0) <= WIDEN_MAX * free.sum(axis=0)
@@ -670,7 +675,7 @@ class _FreeBlockSolver:
     def _refactor(self, free):
         block = _principal_submatrix(self.H, self.columns, free)
         k = block.shape[0]
-        self.lu = _SparseCholesky(block)
+        self.factor = _SparseCholesky(block)
         # bounds, not the factor's own counts: those are not read cheaply
         # (SuperLU's lu.L, a copy of its factor, took 1.3 ms of a 10 ms
         # factorization on the character)
@@ -719,7 +724,7 @@ class _FreeBlockSolver:
         self.B[self.compact[rows], used + columns] = values
         B = np.zeros((self.Y.shape[0], q), order="F")
         B[rows, columns] = values
-        self.Y[:, used:used + q] = _solve_in_chunks(self.lu, B)
+        self.Y[:, used:used + q] = self.factor.solve(B)
         touched = len(self.row)
         self.BY[:used + q, used:used + q] = self.B[:touched, :used + q].T @ self.Y[self.row, used:used + q]
         self.BY[used:used + q, :used] = self.BY[:used, used:used + q].T
@@ -744,7 +749,7 @@ class _FreeBlockSolver:
         """``H00⁻¹ r[base]``, kept: ``r`` on the base changes only with the upper set, seldom."""
         r = r[self.base]
         if not np.array_equal(r, self.r_solved):
-            self.r_solved, self.z_solved = r, self.lu.solve(r)
+            self.r_solved, self.z_solved = r, self.factor.solve(r)
         return self.z_solved.copy()
 
     def _bordered(self, free, r, added, removed):
@@ -811,6 +816,22 @@ def _idle(H, columns, free, r):
     return idle
 
 
+def _wrong_multipliers(gradient, lower, upper, tol_release):
+    """The bound variables whose multiplier (``gradient`` ``H x - g``) has the wrong sign by more than ``tol_release``."""
+    return (lower & (gradient < -tol_release)) | (upper & (gradient > tol_release))
+
+
+def _released(H, diagonal, gradient, lower, upper, wrong, tol_release, lookahead):
+    """Of the ``wrong`` multipliers (not none), those a step releases, with its look-ahead if ``lookahead``.
+
+    The clearly wrong multipliers first: fewer variables move per step, and
+    more steps border the last factorization instead of factoring anew (on a
+    2D square: 25 steps instead of 20, 8 factorizations instead of 11).
+    """
+    release = wrong & (np.abs(gradient) >= RELEASE_RANGE * np.abs(gradient[wrong]).max())
+    return _lookahead(H, diagonal, gradient, lower, upper, release, tol_release) if lookahead else release
+
+
 def _lookahead(H, diagonal, gradient, lower, upper, release, tol_release):
     """``release`` and the bound variables whose multipliers the released ones' move makes wrong.
 
@@ -861,10 +882,9 @@ def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt, start=None):
         # that the prediction missed (hand -9 %, bones -3 %; with the look-
         # ahead the hand another -4 %, the regions +4 %)
         gradient = H @ np.where(lower, 0.0, np.where(upper, 1.0, start)) - g
-        release = (lower & (gradient < -tol_release)) | (upper & (gradient > tol_release))
+        release = _wrong_multipliers(gradient, lower, upper, tol_release)
         if release.any():
-            release &= np.abs(gradient) >= RELEASE_RANGE * np.abs(gradient[release]).max()
-            release = _lookahead(H, diagonal, gradient, lower, upper, release, tol_release)
+            release = _released(H, diagonal, gradient, lower, upper, release, tol_release, lookahead=True)
             lower, upper = lower & ~release, upper & ~release
             r = g - H @ upper.astype(np.float64)
     for _ in range(max_iter):
@@ -882,7 +902,7 @@ def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt, start=None):
             gradient = H @ x - g
         below = free & (x < 0)
         above = free & (x > 1)
-        release = (lower & (gradient < -tol_release)) | (upper & (gradient > tol_release))
+        release = _wrong_multipliers(gradient, lower, upper, tol_release)
         if not (below | above | release).any():
             return np.clip(x, 0.0, 1.0)  # the minimizer, to the tolerance
         clipped = np.clip(x, 0.0, 1.0)
@@ -893,14 +913,9 @@ def _sparse_active_set(H, columns, fill, g, lower, upper, tol_kkt, start=None):
         if np.abs(residual).max() <= tol_kkt:
             return clipped
         if release.any():
-            # the clearly wrong multipliers first: fewer variables move per
-            # step, and more steps border the last factorization instead of
-            # factoring anew (on a 2D square: 25 steps instead of 20, 8
-            # factorizations instead of 11)
-            release &= np.abs(gradient) >= RELEASE_RANGE * np.abs(gradient[release]).max()
-            if not (below.any() or above.any() or murty):
-                # a step that only releases: release one ring ahead too
-                release = _lookahead(H, diagonal, gradient, lower, upper, release, tol_release)
+            # a step that only releases: release one ring ahead too
+            lookahead = not (below.any() or above.any() or murty)
+            release = _released(H, diagonal, gradient, lower, upper, release, tol_release, lookahead)
         lower, upper_next, murty = _next_active_sets(lower, upper, below, above, release, seen, murty)
         if not np.array_equal(upper_next, upper):
             r = g - H @ upper_next.astype(np.float64)
