@@ -39,6 +39,7 @@ from traitlets import Float, Int
 from traitlets.config import Configurable
 
 from grader.pipeline import record
+from grader.pipeline.submitted import LINKED, linked_submission
 from grader.settings import read_config
 from grader.spreadsheet import csv_text, read_csv
 
@@ -238,9 +239,14 @@ def parse_due(text: str) -> datetime:
 
 
 def read_timestamp(folder: Path) -> tuple[datetime | None, str | None]:
-    """The submission time in ``folder/timestamp.txt`` (naive UTC) and, if it could not be read, why."""
+    """The submission time in ``folder/timestamp.txt`` (naive UTC) and, if it could not be read, why.
+
+    ``folder`` is ``SUBMITTED/<student>/<assignment>``; if it or the student's folder is a link, it is not read.
+    """
     from nbgrader.utils import parse_utc
 
+    if linked_submission(folder):
+        return None, f"{LINKED}; treated as on time"
     path = Path(folder) / "timestamp.txt"
     if not path.exists() and not path.is_symlink():
         return None, None

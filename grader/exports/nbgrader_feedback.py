@@ -24,6 +24,7 @@ from pathlib import Path
 from grader.course_pack import is_bonus
 from grader.exports.gradebook import HandGrade
 from grader.pipeline.record import write_text_atomic
+from grader.pipeline.submitted import linked_submission
 
 #: The exchange writes a timestamp and a hex secret: anything larger is not theirs.
 MAX_EXCHANGE_FILE_BYTES = 4096
@@ -127,7 +128,7 @@ def export_feedback(out: Path, submitted: Path, feedback_root: Path, assignment:
                 write_text_atomic(target / page.name, text)
             written.append(target / page.name)
         origin = Path(submitted) / student / assignment
-        for name in EXCHANGE_FILES:
+        for name in EXCHANGE_FILES if not linked_submission(origin) else ():
             if _small_regular_file(origin / name):
                 shutil.copyfile(origin / name, target / name)
         if not (target / "submission_secret.txt").is_file() or not (target / "timestamp.txt").is_file():

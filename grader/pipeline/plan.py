@@ -13,7 +13,7 @@ from pathlib import Path
 from grader.course_pack import default_assignment
 from grader.pipeline.options import GradeOptions
 from grader.pipeline.read_submission import read_submission_bytes
-from grader.pipeline.submitted import student_folders
+from grader.pipeline.submitted import LINKED, linked_submission, student_folders
 from grader.pipeline.unit import UnitSpec, load_submission
 
 __all__ = ["PlannedUnit", "find_submission", "plan_units", "unit_spec"]
@@ -24,7 +24,9 @@ def find_submission(folder: Path, notebook: str) -> tuple[Path | None, list[str]
 
     Every candidate is the student's: read without following links, within the
     notebook size cap, and whatever fails to parse (deep nesting included) is
-    passed over; it never raises for a file's content.
+    passed over; it never raises for a file's content. ``folder`` is
+    ``SUBMITTED/<student>/<assignment>``: if it or the student's folder is a
+    link, nothing in it is graded.
     """
     return _SubmissionFolder(folder).find(notebook)
 
@@ -34,18 +36,20 @@ class _SubmissionFolder:
 
     def __init__(self, folder: Path):
         self.folder = folder
+        self.linked = linked_submission(folder)
         self._listed: list[Path] | None = None
         self._named: dict[Path, object] = {}
 
     def listed(self) -> list[Path]:
         """The folder's ``*.ipynb`` entries, sorted; none if it is a link (never followed) or missing."""
         if self._listed is None:
-            linked = not self.folder.is_dir() or self.folder.is_symlink()
-            self._listed = [] if linked else sorted(self.folder.glob("*.ipynb"))
+            self._listed = [] if self.linked or not self.folder.is_dir() else sorted(self.folder.glob("*.ipynb"))
         return self._listed
 
     def find(self, notebook: str) -> tuple[Path | None, list[str]]:
         """As ``find_submission``."""
+        if self.linked:
+            return None, [LINKED]
         exact = self.folder / f"{notebook}.ipynb"
         if exact.is_file() or exact.is_symlink():
             return exact, []
@@ -82,22 +86,20 @@ class PlannedUnit:
 def plan_units(submitted: Path, sources: list[Path], options: GradeOptions, roster: list[str]) -> list[PlannedUnit]:
     """One unit per student × notebook: students from the folder and from the gradebook's roster.
 
-    A student folder that is a link is not followed (its student gets a row saying so).
+    A student or assignment folder that is a link is not followed (its student gets rows saying so).
     """
     assignment = options.assignment or default_assignment()
     folders = student_folders(submitted, assignment)
     units = []
     for sid in sorted(set(folders) | set(roster)):
         folder = folders.get(sid)
-        student = _SubmissionFolder(folder / assignment) if folder is not None and not folder.is_symlink() else None
+        student = _SubmissionFolder(folder / assignment) if folder is not None else None
         first = len(units)
         for source in sources:
             notebook = source.stem
             path = None
-            if folder is None:
+            if student is None:
                 notes = ["no submission folder for this student"]
-            elif student is None:
-                notes = ["the submission folder is a link, which is not followed"]
             else:
                 try:
                     path, notes = student.find(notebook)

@@ -5,6 +5,21 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+#: What a student's row says when their folder is a link.
+LINKED = "the submission folder is a link, which is not followed"
+
+
+def linked_submission(folder: Path) -> bool:
+    """Whether ``folder``, ``SUBMITTED/<student>/<assignment>``, or the student's folder above it is a link.
+
+    Opening a file without following links (``O_NOFOLLOW``) guards its last
+    path component only: through a linked folder a reader would reach any file
+    of the right name elsewhere on the host (the instructor's notebooks, another
+    student's ``timestamp.txt``). Nothing in such a folder is read.
+    """
+    folder = Path(folder)
+    return folder.is_symlink() or folder.parent.is_symlink()
+
 
 def student_folders(submitted: Path, assignment: str) -> dict[str, Path]:
     """Student id -> folder, for every sub-folder of ``submitted`` that holds ``<assignment>/``.

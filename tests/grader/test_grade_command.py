@@ -216,3 +216,29 @@ def test_a_missing_notebook_names_the_files_no_notebook_claimed_and_a_linked_fol
     page = (out / "feedback" / "dave" / f"{NOTEBOOK}.html").read_text()
     assert "scratch.ipynb" in page and "bad\nname" not in page
     assert {r["student_id"] for r in rows(out)} == {"dave", "erin", "frank"}
+
+
+def test_an_assignment_folder_that_is_a_link_is_not_followed_even_to_a_notebook_of_the_right_name(tmp_path, source_notebooks):
+    """A real student folder whose deformation/ links elsewhere (the instructor's notebooks, say): graded as nothing.
+
+    Opening the notebook without following a link guards its last path component only; the folders above it are
+    the plan's to refuse.
+    """
+    submitted = tmp_path / "submitted"
+    (submitted / "gail").mkdir(parents=True)
+    elsewhere = tmp_path / "elsewhere" / "deformation"
+    elsewhere.mkdir(parents=True)
+    nbformat.write(as_student(source_notebooks[NOTEBOOK]), elsewhere / f"{NOTEBOOK}.ipynb")
+    (submitted / "gail" / "deformation").symlink_to(elsewhere, target_is_directory=True)
+    honest = submitted / "hal" / "deformation"
+    honest.mkdir(parents=True)
+    nbformat.write(as_student(source_notebooks[NOTEBOOK]), honest / f"{NOTEBOOK}.ipynb")
+    out = tmp_path / "out"
+    assert main(["grade", str(submitted), "--out", str(out), "--workers", "1", "--timeout", "20",
+                 "--db", f"sqlite:///{tmp_path}/gb.db"]) == 0
+    log = {(r["student_id"], r["notebook"]): r for r in map(json.loads, (out / "log.jsonl").read_text().splitlines())}
+    for notebook in source_notebooks:
+        assert log[("gail", notebook)]["status"] == "missing"
+        assert log[("gail", notebook)]["notes"] == ["the submission folder is a link, which is not followed"]
+    assert log[("hal", NOTEBOOK)]["status"] == "graded"
+    assert {r["student_id"] for r in rows(out)} == {"gail", "hal"}

@@ -133,6 +133,28 @@ def hand_graded(graded_class, tmp_path):
     return out, db, given, scores
 
 
+def test_exchange_files_behind_a_linked_submission_folder_are_not_copied(tmp_path):
+    """Through a linked student or assignment folder, another student's submission_secret.txt would be released as theirs."""
+    from grader.exports.nbgrader_feedback import export_feedback
+
+    other = tmp_path / "submitted" / "ada" / "deformation"
+    other.mkdir(parents=True)
+    for name in ("timestamp.txt", "submission_secret.txt"):
+        (other / name).write_text("ada's")
+    (tmp_path / "submitted" / "eve").mkdir()
+    (tmp_path / "submitted" / "eve" / "deformation").symlink_to(other, target_is_directory=True)
+    (tmp_path / "submitted" / "fay").symlink_to(other.parent, target_is_directory=True)
+    for sid in ("ada", "eve", "fay"):
+        (tmp_path / "out" / "feedback" / sid).mkdir(parents=True)
+        (tmp_path / "out" / "feedback" / sid / "00_meshes.html").write_text("<p>page</p>")
+    _, unreleasable = export_feedback(tmp_path / "out", tmp_path / "submitted", tmp_path / "feedback", "deformation")
+    assert unreleasable == ["eve", "fay"]
+    assert (tmp_path / "feedback" / "ada" / "deformation" / "submission_secret.txt").read_text() == "ada's"
+    for sid in ("eve", "fay"):
+        assert (tmp_path / "feedback" / sid / "deformation" / "00_meshes.html").is_file()
+        assert not (tmp_path / "feedback" / sid / "deformation" / "submission_secret.txt").exists()
+
+
 def test_lms_totals_are_the_gradebooks_with_every_point_graded_by_hand(hand_graded, tmp_path, capsys):
     out, db, given, scores = hand_graded
     target = tmp_path / "canvas.csv"

@@ -79,6 +79,20 @@ def test_a_hostile_timestamp_file_counts_as_on_time_and_says_why(tmp_path):
     assert read_timestamp(tmp_path / "none") == (None, None)
 
 
+def test_a_timestamp_behind_a_linked_folder_is_not_read(tmp_path):
+    """A student or assignment folder that is a link leads elsewhere (another student's earlier timestamp.txt)."""
+    other = tmp_path / "other" / "deformation"
+    other.mkdir(parents=True)
+    (other / "timestamp.txt").write_text("2026-11-01 10:00:00.000000 UTC")
+    (tmp_path / "eve").mkdir()
+    (tmp_path / "eve" / "deformation").symlink_to(other, target_is_directory=True)
+    (tmp_path / "fay").symlink_to(other.parent, target_is_directory=True)
+    assert read_timestamp(other) == (datetime(2026, 11, 1, 10, 0), None)
+    for sid in ("eve", "fay"):
+        stamp, why = read_timestamp(tmp_path / sid / "deformation")
+        assert stamp is None and why == "the submission folder is a link, which is not followed; treated as on time"
+
+
 def test_late_notebooks_lose_points_in_grades_csv_feedback_and_gradebook(graded_class, tmp_path):
     from nbgrader.api import Gradebook
 
